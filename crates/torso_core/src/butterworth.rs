@@ -1,0 +1,431 @@
+//! Butterworth low-pass design and filtering in second-order sections (thesis section 3.3.1).
+//!
+//! The design follows SciPy step by step (`buttap` → `lp2lp_zpk` → `bilinear_zpk` →
+//! `zpk2sos(pairing='nearest')`), so [`design_lowpass`] equals
+//! `scipy.signal.butter(order, cutoff_hz, fs=rate_hz, output='sos')` to rounding. Filtering uses
+//! the transposed direct form II of `sosfilt`; [`SosFilter::steady_state`] is `sosfilt_zi`, and
+//! [`ZeroPhase`] is `sosfiltfilt` with its default odd padding.
+
+use crate::error::{check_positive, Error, Result};
+use nalgebra::Complex;
+use std::f64::consts::PI;
+
+/// Highest supported filter order.
+pub const MAX_ORDER: usize = 8;
+
+/// One biquad `[b0, b1, b2, 1, a1, a2]`, as a row of SciPy's `sos` array.
+pub type Section = [f64; 6];
+
+/// A cascade of second-order sections and its unit-step steady state.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SosFilter {
+    sections: Vec<Section>,
+    /// `sosfilt_zi(sos)`: the section states for a constant input of 1.
+    zi: Vec<[f64; 2]>,
+}
+
+/// Designs an `order`-th order Butterworth low-pass with cut-off `cutoff_hz` for samples at
+/// `rate_hz`.
+pub fn design_lowpass(order: usize, cutoff_hz: f64, rate_hz: f64) -> Result<SosFilter> {
+    check_positive("rate_hz", rate_hz, "a positive, finite sample rate in Hz")?;
+    if !(1..=MAX_ORDER).contains(&order) {
+        return Err(Error::InvalidArgument {
+            name: "order",
+            expected: "a filter order from 1 to 8",
+            value: order as f64,
+        });
+    }
+    if !(cutoff_hz.is_finite() && cutoff_hz > 0.0 && cutoff_hz < 0.5 * rate_hz) {
+        return Err(Error::InvalidArgument {
+            name: "cutoff_hz",
+            expected: "a cut-off frequency strictly between 0 and the Nyquist frequency rate_hz / 2",
+            value: cutoff_hz,
+        });
+    }
+    // Analogue prototype poles on the unit circle, pre-warped for the bilinear transform at
+    // SciPy's internal fs = 2.
+    let wn = cutoff_hz / (0.5 * rate_hz);
+    let warped = 4.0 * (PI * wn / 2.0).tan();
+    let n = order as i32;
+    let mut poles: Vec<Complex<f64>> = Vec::with_capacity(order + 1);
+    let mut gain = warped.powi(n);
+    let mut denominator = Complex::new(1.0, 0.0);
+    for m in (-(n - 1)..=(n - 1)).step_by(2) {
+        let analog = -Complex::from_polar(1.0, PI * m as f64 / (2.0 * n as f64)) * warped;
+        denominator *= Complex::new(4.0, 0.0) - analog;
+        poles.push((Complex::new(4.0, 0.0) + analog) / (Complex::new(4.0, 0.0) - analog));
+    }
+    gain *= (Complex::new(1.0, 0.0) / denominator).re;
+    let zeros = vec![Complex::new(-1.0, 0.0); order];
+    let sections = zpk2sos_nearest(zeros, poles, gain);
+    let zi = steady_state(&sections);
+    Ok(SosFilter { sections, zi })
+}
+
+/// `scipy.signal.zpk2sos(z, p, k, pairing='nearest')` for a digital filter whose zeros are real.
+fn zpk2sos_nearest(mut z: Vec<Complex<f64>>, mut p: Vec<Complex<f64>>, k: f64) -> Vec<Section> {
+    let n_sections = p.len().div_ceil(2);
+    if p.len() % 2 == 1 {
+        p.push(Complex::new(0.0, 0.0));
+        z.push(Complex::new(0.0, 0.0));
+    }
+    // Like `_cplxreal`: keep one member (positive imaginary part) of each conjugate pair, then
+    // the real ones with their imaginary parts set to exactly zero.
+    let tol = 100.0 * f64::EPSILON;
+    let is_real = |c: &Complex<f64>| c.im.abs() <= tol * c.norm();
+    let mut p_cplx: Vec<Complex<f64>> = p.iter().filter(|c| !is_real(c) && c.im > 0.0).copied().collect();
+    p_cplx.sort_by(|a, b| a.re.total_cmp(&b.re));
+    let p_real = p.iter().filter(|c| is_real(c)).map(|c| Complex::new(c.re, 0.0));
+    let mut p: Vec<Complex<f64>> = p_cplx.into_iter().chain(p_real).collect();
+    let mut z: Vec<Complex<f64>> = z.iter().map(|c| Complex::new(c.re, 0.0)).collect();
+
+    let worst = |v: &[Complex<f64>], among: &dyn Fn(&Complex<f64>) -> bool| -> Option<usize> {
+        let mut best: Option<(usize, f64)> = None;
+        for (i, c) in v.iter().enumerate() {
+            if !among(c) {
+                continue;
+            }
+            let d = (1.0 - c.norm()).abs();
+            if best.is_none_or(|(_, b)| d < b) {
+                best = Some((i, d));
+            }
+        }
+        best.map(|(i, _)| i)
+    };
+    let nearest = |v: &[Complex<f64>], to: Complex<f64>, real_only: bool| -> usize {
+        let mut best: Option<(usize, f64)> = None;
+        for (i, c) in v.iter().enumerate() {
+            if real_only && c.im != 0.0 {
+                continue;
+            }
+            let d = (c - to).norm();
+            if best.is_none_or(|(_, b)| d < b) {
+                best = Some((i, d));
+            }
+        }
+        best.expect("zpk2sos pairs as many zeros as poles").0
+    };
+
+    let mut sections = vec![[0.0; 6]; n_sections];
+    for si in (0..n_sections).rev() {
+        let p1 = p.remove(worst(&p, &|_| true).expect("a pole per section"));
+        let p2 = if p1.im == 0.0 {
+            if !p.iter().any(|c| c.im == 0.0) {
+                // Special case (1) of SciPy: the last remaining real pole.
+                let z1 = z.remove(nearest(&z, p1, true));
+                sections[si] = biquad([z1.re, 0.0], [p1.re, 0.0]);
+                continue;
+            }
+            p.remove(worst(&p, &|c| c.im == 0.0).expect("a real pole"))
+        } else {
+            p1.conj()
+        };
+        // All zeros are real here, so the nearest zero is real and a second real zero follows.
+        let z1 = z.remove(nearest(&z, p1, false));
+        let z2 = z.remove(nearest(&z, p1, true));
+        sections[si] = if p1.im == 0.0 {
+            biquad([z1.re, z2.re], [p1.re, p2.re])
+        } else {
+            let b = [1.0, -(z1.re + z2.re), z1.re * z2.re];
+            let a = [1.0, -2.0 * p1.re, (p1 * p2).re];
+            [b[0], b[1], b[2], a[0], a[1], a[2]]
+        };
+    }
+    for c in &mut sections[0][..3] {
+        *c *= k;
+    }
+    sections
+}
+
+/// Section with two real zeros and two real poles.
+fn biquad(z: [f64; 2], p: [f64; 2]) -> Section {
+    [1.0, -(z[0] + z[1]), z[0] * z[1], 1.0, -(p[0] + p[1]), p[0] * p[1]]
+}
+
+/// `sosfilt_zi`: per-section states that make a constant unit input pass through unchanged.
+fn steady_state(sections: &[Section]) -> Vec<[f64; 2]> {
+    let mut scale = 1.0;
+    sections
+        .iter()
+        .map(|s| {
+            // lfilter_zi for a biquad, solved in closed form: (I - Aᵀ) zi = b[1:] - a[1:] b0.
+            let (b0, b1, b2, a1, a2) = (s[0], s[1], s[2], s[4], s[5]);
+            let (r0, r1) = (b1 - a1 * b0, b2 - a2 * b0);
+            let z0 = (r0 + r1) / (1.0 + a1 + a2);
+            let zi = [scale * z0, scale * (r1 - a2 * z0)];
+            scale *= (b0 + b1 + b2) / (1.0 + a1 + a2);
+            zi
+        })
+        .collect()
+}
+
+impl SosFilter {
+    /// The sections as SciPy's `(n_sections, 6)` rows.
+    pub fn sections(&self) -> &[Section] {
+        &self.sections
+    }
+
+    /// `sosfilt_zi(sos)`: the state for a constant input of 1 (scale it by the first sample).
+    pub fn steady_state(&self) -> &[[f64; 2]] {
+        &self.zi
+    }
+
+    /// Number of sections.
+    pub fn len(&self) -> usize {
+        self.sections.len()
+    }
+
+    /// Never true: a designed filter has at least one section.
+    pub fn is_empty(&self) -> bool {
+        self.sections.is_empty()
+    }
+
+    /// Sets `state` to the steady state for a constant input `x0`.
+    pub fn start_at(&self, x0: f64, state: &mut [[f64; 2]]) {
+        for (s, zi) in state.iter_mut().zip(&self.zi) {
+            *s = [zi[0] * x0, zi[1] * x0];
+        }
+    }
+
+    /// One sample through the cascade (transposed direct form II, as `sosfilt`).
+    #[inline]
+    pub fn step(&self, x: f64, state: &mut [[f64; 2]]) -> f64 {
+        let mut v = x;
+        for (s, z) in self.sections.iter().zip(state.iter_mut()) {
+            let y = s[0] * v + z[0];
+            z[0] = s[1] * v - s[4] * y + z[1];
+            z[1] = s[2] * v - s[5] * y;
+            v = y;
+        }
+        v
+    }
+
+    /// Causal filtering of a window in place, starting in steady state at its first sample:
+    /// `sosfilt(sos, x, zi=sosfilt_zi(sos) * x[0])`.
+    pub fn filter_from_steady_state(&self, x: &mut [f64], state: &mut [[f64; 2]]) {
+        if let Some(&x0) = x.first() {
+            self.start_at(x0, state);
+            for v in x.iter_mut() {
+                *v = self.step(*v, state);
+            }
+        }
+    }
+
+    /// SciPy's default `sosfiltfilt` pad length for this filter.
+    pub fn default_padlen(&self) -> usize {
+        let trailing_b = self.sections.iter().filter(|s| s[2] == 0.0).count();
+        let trailing_a = self.sections.iter().filter(|s| s[5] == 0.0).count();
+        3 * (2 * self.sections.len() + 1 - trailing_b.min(trailing_a))
+    }
+}
+
+/// A streaming causal low-pass: feed one sample at a time. The first sample sets the steady
+/// state, so the output equals `sosfilt(sos, x, zi=sosfilt_zi(sos) * x[0])`.
+#[derive(Clone, Debug)]
+pub struct LowPass {
+    filter: SosFilter,
+    state: Vec<[f64; 2]>,
+    started: bool,
+}
+
+impl LowPass {
+    pub fn new(filter: SosFilter) -> Self {
+        let state = vec![[0.0; 2]; filter.len()];
+        Self {
+            filter,
+            state,
+            started: false,
+        }
+    }
+
+    /// Filters one sample. A non-finite sample is rejected and leaves the state untouched.
+    pub fn step(&mut self, x: f64) -> Result<f64> {
+        if !x.is_finite() {
+            return Err(Error::NonFinite { name: "x", index: 0 });
+        }
+        if !self.started {
+            self.filter.start_at(x, &mut self.state);
+            self.started = true;
+        }
+        Ok(self.filter.step(x, &mut self.state))
+    }
+
+    /// Forgets the past: the next sample starts a new steady state.
+    pub fn reset(&mut self) {
+        self.started = false;
+    }
+
+    pub fn filter(&self) -> &SosFilter {
+        &self.filter
+    }
+}
+
+/// Zero-phase forward-backward filtering of windows of up to `capacity` samples, equal to
+/// `sosfiltfilt(sos, x)` (odd extension of SciPy's default length at each end). A window no
+/// longer than that padding is padded by `len - 1` instead (SciPy would refuse it).
+#[derive(Clone, Debug)]
+pub struct ZeroPhase {
+    filter: SosFilter,
+    padlen: usize,
+    capacity: usize,
+    extended: Vec<f64>,
+    state: Vec<[f64; 2]>,
+}
+
+impl ZeroPhase {
+    pub fn new(filter: SosFilter, capacity: usize) -> Self {
+        let padlen = filter.default_padlen();
+        let state = vec![[0.0; 2]; filter.len()];
+        Self {
+            filter,
+            padlen,
+            capacity,
+            extended: vec![0.0; capacity + 2 * padlen],
+            state,
+        }
+    }
+
+    /// Filters `x` into `out` (same length, at most `capacity`).
+    pub fn apply(&mut self, x: &[f64], out: &mut [f64]) -> Result<()> {
+        let n = x.len();
+        crate::error::check_len("out", out.len(), n)?;
+        if n > self.capacity {
+            return Err(Error::LengthMismatch {
+                name: "x",
+                expected: self.capacity,
+                got: n,
+            });
+        }
+        if let Some(index) = x.iter().position(|v| !v.is_finite()) {
+            return Err(Error::NonFinite { name: "x", index });
+        }
+        if n < 2 {
+            out.copy_from_slice(x);
+            return Ok(());
+        }
+        let edge = if n > self.padlen { self.padlen } else { n - 1 };
+        let ext = &mut self.extended[..n + 2 * edge];
+        // Odd extension: 2 x[0] - x[edge..0], x, 2 x[-1] - x[-2..-edge-2].
+        for i in 0..edge {
+            ext[i] = 2.0 * x[0] - x[edge - i];
+            ext[edge + n + i] = 2.0 * x[n - 1] - x[n - 2 - i];
+        }
+        ext[edge..edge + n].copy_from_slice(x);
+        self.filter.filter_from_steady_state(ext, &mut self.state);
+        ext.reverse();
+        self.filter.filter_from_steady_state(ext, &mut self.state);
+        ext.reverse();
+        out.copy_from_slice(&ext[edge..edge + n]);
+        Ok(())
+    }
+
+    pub fn padlen(&self) -> usize {
+        self.padlen
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn second_order_matches_the_bilinear_closed_form() {
+        // Textbook biquad from the bilinear transform with pre-warping, K = tan(π fc / fs).
+        let (fc, fs) = (5.0, 25.0);
+        let k = (PI * fc / fs).tan();
+        let norm = 1.0 / (1.0 + 2f64.sqrt() * k + k * k);
+        let b0 = k * k * norm;
+        let expected = [
+            b0,
+            2.0 * b0,
+            b0,
+            1.0,
+            2.0 * (k * k - 1.0) * norm,
+            (1.0 - 2f64.sqrt() * k + k * k) * norm,
+        ];
+        let f = design_lowpass(2, fc, fs).unwrap();
+        assert_eq!(f.sections().len(), 1);
+        for (a, b) in f.sections()[0].iter().zip(&expected) {
+            assert!((a - b).abs() < 1e-14, "{a} vs {b}");
+        }
+    }
+
+    #[test]
+    fn first_order_matches_the_bilinear_closed_form() {
+        let (fc, fs) = (3.0, 30.0);
+        let k = (PI * fc / fs).tan();
+        let f = design_lowpass(1, fc, fs).unwrap();
+        let s = f.sections()[0];
+        assert!((s[0] - k / (1.0 + k)).abs() < 1e-14);
+        assert!((s[1] - k / (1.0 + k)).abs() < 1e-14);
+        assert!((s[4] - (k - 1.0) / (k + 1.0)).abs() < 1e-14);
+        assert_eq!((s[2], s[5]), (0.0, 0.0));
+    }
+
+    #[test]
+    fn unit_dc_gain_and_half_power_at_cutoff_for_every_order() {
+        for order in 1..=MAX_ORDER {
+            let (fc, fs) = (5.0, 25.0);
+            let f = design_lowpass(order, fc, fs).unwrap();
+            // |H(e^{jω})| from the sections.
+            let gain_at = |hz: f64| -> f64 {
+                let z = Complex::from_polar(1.0, 2.0 * PI * hz / fs);
+                f.sections()
+                    .iter()
+                    .map(|s| {
+                        let num = Complex::new(s[0], 0.0) + z.inv() * s[1] + z.inv().powi(2) * s[2];
+                        let den = Complex::new(1.0, 0.0) + z.inv() * s[4] + z.inv().powi(2) * s[5];
+                        (num / den).norm()
+                    })
+                    .product()
+            };
+            assert!((gain_at(0.0) - 1.0).abs() < 1e-12, "order {order}");
+            assert!((gain_at(fc) - 0.5f64.sqrt()).abs() < 1e-12, "order {order}");
+        }
+    }
+
+    #[test]
+    fn steady_state_passes_a_constant_unchanged() {
+        for order in 1..=MAX_ORDER {
+            let f = design_lowpass(order, 2.0, 25.0).unwrap();
+            let mut x = [3.25; 40];
+            let mut state = vec![[0.0; 2]; f.len()];
+            f.filter_from_steady_state(&mut x, &mut state);
+            assert!(x.iter().all(|v| (v - 3.25).abs() < 1e-12), "order {order}");
+            let mut zp = ZeroPhase::new(f, 40);
+            let mut out = [0.0; 40];
+            zp.apply(&[3.25; 40], &mut out).unwrap();
+            assert!(out.iter().all(|v| (v - 3.25).abs() < 1e-12));
+        }
+    }
+
+    #[test]
+    fn zero_phase_has_no_lag_on_a_ramp() {
+        // A zero-phase filter with unit DC gain passes a ramp without delay. Only the start-up
+        // transient of each pass remains (steady state is exact for a constant, not a ramp); it
+        // decays with the pole radius (about 0.5 per sample at 5 Hz / 25 Hz), so the middle of
+        // the window is the ramp to rounding and the ends are close.
+        let f = design_lowpass(2, 5.0, 25.0).unwrap();
+        let x: Vec<f64> = (0..80).map(|i| 0.1 * i as f64 - 2.0).collect();
+        let mut out = vec![0.0; 80];
+        ZeroPhase::new(f, 80).apply(&x, &mut out).unwrap();
+        for (i, (a, b)) in x.iter().zip(&out).enumerate() {
+            let tol = if (30..50).contains(&i) { 1e-12 } else { 1e-4 };
+            assert!((a - b).abs() < tol, "{i}: {a} vs {b}");
+        }
+    }
+
+    #[test]
+    fn rejects_bad_designs() {
+        assert!(design_lowpass(0, 5.0, 25.0).is_err());
+        assert!(design_lowpass(9, 5.0, 25.0).is_err());
+        assert!(matches!(
+            design_lowpass(2, 12.5, 25.0),
+            Err(Error::InvalidArgument { name: "cutoff_hz", .. })
+        ));
+        assert!(matches!(
+            design_lowpass(2, 5.0, f64::NAN),
+            Err(Error::InvalidArgument { name: "rate_hz", .. })
+        ));
+    }
+}

@@ -1,0 +1,525 @@
+//! Torso pose forecasting (thesis section 3.3, Algorithm 1) and the thesis' baselines.
+//!
+//! Every method reduces the history to a polynomial about the last sample, one per pose
+//! component: `p_c(τ) = Σ_k d_ck τ^k / k!` with `τ` in seconds, and evaluates it at the requested
+//! horizons. For filter + spline, `d_ck` are the derivatives of the last spline piece; for the
+//! baselines, the last value and a mean velocity.
+//!
+//! With uniform weights over a full history, filter + fit + derivatives is a fixed linear map of
+//! the history (the filter is linear from a steady-state start or an odd extension, the spline
+//! is linear in the data), so the forecaster precomputes that `(N + 1) × T` matrix per component
+//! kind and forecasts with a few hundred multiply-adds.
+
+use crate::bspline::{self, MAX_DEGREE};
+use crate::butterworth::{design_lowpass, SosFilter, ZeroPhase};
+use crate::error::{check_len, check_positive, Error, Result};
+use crate::history::{History, UpdateReport};
+use crate::smoothing::SmoothingSpline;
+use crate::{Pose, AZIMUTH, ELEVATION};
+
+/// How the history is low-pass filtered before the spline fit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FilterMode {
+    /// No filter (the thesis' "no filter" ablation).
+    Off,
+    /// Causal filtering of the history window, started in steady state at its first sample.
+    /// Lags the signal by the filter's group delay, as a filter running on a robot would.
+    Causal,
+    /// Forward-backward (`sosfiltfilt`) filtering of the history window: no lag, but the last
+    /// samples depend on the odd extension at the window's end.
+    ZeroPhase,
+}
+
+/// The time unit of the spline abscissae, which sets what `lam` means: the penalty
+/// `λ ∫ f''(t)² dt` scales with the unit cubed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LambdaUnit {
+    /// Knots at 0, 1, 2, ... (sample index).
+    Samples,
+    /// Knots at the sample times in seconds.
+    Seconds,
+}
+
+/// How the fitted spline is continued past the last sample.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Extrapolation {
+    /// Continue the last polynomial piece (what `scipy.interpolate.BSpline` does).
+    Polynomial,
+    /// Continue the tangent at the last sample (value and slope of the last piece).
+    Linear,
+}
+
+/// The thesis' filter + spline forecaster.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FilterSplineConfig {
+    pub filter: FilterMode,
+    /// Butterworth order. Thesis: 2.
+    pub filter_order: usize,
+    /// Butterworth cut-off (Hz). Thesis: 5 Hz.
+    pub cutoff_hz: f64,
+    /// Which of `[x, y, z, azimuth, elevation]` are filtered. Thesis: the two angles.
+    pub filter_components: [bool; 5],
+    /// Spline degree `N` (0 to 5). Thesis: 1.
+    pub degree: usize,
+    /// Roughness weight λ. Thesis: 1.
+    pub lam: f64,
+    pub lambda_unit: LambdaUnit,
+    pub extrapolation: Extrapolation,
+}
+
+impl Default for FilterSplineConfig {
+    fn default() -> Self {
+        Self {
+            filter: FilterMode::ZeroPhase,
+            filter_order: 2,
+            cutoff_hz: 5.0,
+            filter_components: [false, false, false, true, true],
+            degree: 1,
+            lam: 1.0,
+            lambda_unit: LambdaUnit::Samples,
+            extrapolation: Extrapolation::Polynomial,
+        }
+    }
+}
+
+/// The forecasting method.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Method {
+    /// Zero velocity: the last pose, held ("Const" in the thesis).
+    Const,
+    /// The mean velocity over the last `window` seconds (`None`: the whole history), integrated.
+    ConstantVelocity { window: Option<f64> },
+    /// Low-pass filter, penalised spline fit, extrapolation.
+    FilterSpline(FilterSplineConfig),
+}
+
+/// Everything a forecaster needs to know; every choice the thesis leaves open is a field.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ForecasterConfig {
+    /// Rate of the fixed time grid (Hz). Thesis: 25 Hz.
+    pub rate_hz: f64,
+    /// History length (s). Thesis: 2 s, i.e. 50 samples at 25 Hz.
+    pub history: f64,
+    /// Longest gap (s) that is bridged by interpolated, zero-weight samples; a longer one
+    /// restarts the history.
+    pub max_gap: f64,
+    pub method: Method,
+    /// Use the precomputed linear map when the weights are uniform and the history full.
+    pub fast_path: bool,
+}
+
+impl Default for ForecasterConfig {
+    fn default() -> Self {
+        Self {
+            rate_hz: 25.0,
+            history: 2.0,
+            max_gap: 0.4,
+            method: Method::FilterSpline(FilterSplineConfig::default()),
+            fast_path: true,
+        }
+    }
+}
+
+impl ForecasterConfig {
+    /// The zero-velocity baseline on the default grid.
+    pub fn constant() -> Self {
+        Self {
+            method: Method::Const,
+            ..Self::default()
+        }
+    }
+
+    /// A constant-velocity baseline on the default grid.
+    pub fn constant_velocity(window: Option<f64>) -> Self {
+        Self {
+            method: Method::ConstantVelocity { window },
+            ..Self::default()
+        }
+    }
+
+    /// Samples in a full history.
+    pub fn capacity(&self) -> usize {
+        (self.history * self.rate_hz).round() as usize
+    }
+}
+
+/// Derivatives `d_ck` per component, in seconds.
+type Derivatives = [[f64; MAX_DEGREE + 1]; 5];
+
+/// One tracked person's forecaster. Every buffer is sized in [`Forecaster::new`]; `update` and
+/// `forecast` never touch the heap.
+#[derive(Clone, Debug)]
+pub struct Forecaster {
+    config: ForecasterConfig,
+    step: f64,
+    history: History,
+    engine: Engine,
+}
+
+#[derive(Clone, Debug)]
+enum Engine {
+    Const,
+    Velocity { window_steps: Option<usize> },
+    Spline(Box<SplineEngine>),
+}
+
+#[derive(Clone, Debug)]
+struct SplineEngine {
+    cfg: FilterSplineConfig,
+    causal: Option<SosFilter>,
+    zero_phase: Option<ZeroPhase>,
+    filter_state: Vec<[f64; 2]>,
+    spline: SmoothingSpline,
+    /// Abscissa units per second (1/step for samples, 1 for seconds).
+    units_per_second: f64,
+    abscissa_step: f64,
+    values: Vec<f64>,
+    smoothed: Vec<f64>,
+    weights: Vec<f64>,
+    abscissae: Vec<f64>,
+    coeffs: Vec<f64>,
+    /// `(N + 1) × T` maps from a full, uniformly weighted history to the derivatives; index 0 for
+    /// unfiltered components, 1 for filtered ones.
+    fast: Option<[Vec<f64>; 2]>,
+}
+
+impl Forecaster {
+    pub fn new(config: ForecasterConfig) -> Result<Self> {
+        check_positive("rate_hz", config.rate_hz, "a positive, finite grid rate in Hz")?;
+        check_positive("history", config.history, "a positive, finite history length in seconds")?;
+        let capacity = config.capacity();
+        if !(2..=100_000).contains(&capacity) {
+            return Err(Error::InvalidArgument {
+                name: "history",
+                expected: "a history of 2 to 100000 samples at rate_hz",
+                value: config.history,
+            });
+        }
+        if !(config.max_gap.is_finite() && config.max_gap >= 0.0) {
+            return Err(Error::InvalidArgument {
+                name: "max_gap",
+                expected: "a finite, non-negative gap length in seconds",
+                value: config.max_gap,
+            });
+        }
+        let step = 1.0 / config.rate_hz;
+        let max_gap_steps = (config.max_gap * config.rate_hz + 1e-9).floor() as usize;
+        let engine = match config.method {
+            Method::Const => Engine::Const,
+            Method::ConstantVelocity { window: None } => Engine::Velocity { window_steps: None },
+            Method::ConstantVelocity { window: Some(w) } => {
+                check_positive("window", w, "a positive velocity window in seconds, or None")?;
+                Engine::Velocity {
+                    window_steps: Some(((w * config.rate_hz).round() as usize).max(1)),
+                }
+            }
+            Method::FilterSpline(cfg) => {
+                Engine::Spline(Box::new(SplineEngine::new(cfg, capacity, step, config.fast_path)?))
+            }
+        };
+        Ok(Self {
+            config,
+            step,
+            history: History::new(capacity, config.rate_hz, max_gap_steps),
+            engine,
+        })
+    }
+
+    pub fn config(&self) -> &ForecasterConfig {
+        &self.config
+    }
+
+    /// Samples currently held.
+    pub fn len(&self) -> usize {
+        self.history.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.history.is_empty()
+    }
+
+    /// Samples in a full history.
+    pub fn capacity(&self) -> usize {
+        self.history.capacity()
+    }
+
+    /// Grid time of the newest sample; horizons count from here.
+    pub fn last_time(&self) -> Option<f64> {
+        self.history.last_time()
+    }
+
+    /// The `i`-th held sample, oldest first (azimuth unwrapped), with its weight.
+    pub fn sample(&self, i: usize) -> Option<(Pose, f64)> {
+        (i < self.history.len()).then(|| self.history.get(i))
+    }
+
+    /// Fewest samples before [`Forecaster::forecast`] answers.
+    pub fn min_samples(&self) -> usize {
+        match &self.engine {
+            Engine::Const => 1,
+            Engine::Velocity { .. } => 2,
+            Engine::Spline(e) => bspline::min_samples(e.cfg.degree),
+        }
+    }
+
+    /// Forgets the history (a new track).
+    pub fn reset(&mut self) {
+        self.history.clear();
+    }
+
+    /// Adds a pose `[x, y, z, azimuth, elevation]` observed at time `t` (s) with confidence
+    /// `weight` (relative; the spline divides by the window's mean). Baselines ignore the weight.
+    pub fn update(&mut self, pose: Pose, t: f64, weight: f64) -> Result<UpdateReport> {
+        self.history.push(pose, t, weight)
+    }
+
+    /// Forecasts the pose `horizons[h]` seconds after the last sample into `out[h]`. Azimuth
+    /// comes out unwrapped (continuous with the history); wrap it only for display.
+    pub fn forecast(&mut self, horizons: &[f64], out: &mut [Pose]) -> Result<()> {
+        check_len("out", out.len(), horizons.len())?;
+        if let Some(&value) = horizons.iter().find(|h| !(h.is_finite() && **h >= 0.0)) {
+            return Err(Error::InvalidArgument {
+                name: "horizons",
+                expected: "finite, non-negative horizons in seconds",
+                value,
+            });
+        }
+        let need = self.min_samples();
+        let n = self.history.len();
+        if n < need {
+            return Err(Error::NotEnoughHistory { have: n, need });
+        }
+        let mut d: Derivatives = [[0.0; MAX_DEGREE + 1]; 5];
+        let order = match &mut self.engine {
+            Engine::Const => {
+                let (last, _) = self.history.get(n - 1);
+                for c in 0..5 {
+                    d[c][0] = last[c];
+                }
+                0
+            }
+            Engine::Velocity { window_steps } => {
+                let k = window_steps.map_or(n - 1, |w| w.min(n - 1));
+                let (last, _) = self.history.get(n - 1);
+                let (first, _) = self.history.get(n - 1 - k);
+                for c in 0..5 {
+                    d[c][0] = last[c];
+                    d[c][1] = (last[c] - first[c]) / (k as f64 * self.step);
+                }
+                1
+            }
+            Engine::Spline(e) => e.derivatives(&self.history, &mut d)?,
+        };
+        for (h, o) in horizons.iter().zip(out.iter_mut()) {
+            for c in 0..5 {
+                o[c] = taylor(&d[c][..=order], *h);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// `Σ_k d_k τ^k / k!` by Horner's rule.
+fn taylor(d: &[f64], tau: f64) -> f64 {
+    let mut acc = 0.0;
+    for k in (0..d.len()).rev() {
+        acc = d[k] + acc * tau / (k + 1) as f64;
+    }
+    acc
+}
+
+impl SplineEngine {
+    fn new(cfg: FilterSplineConfig, capacity: usize, step: f64, fast_path: bool) -> Result<Self> {
+        let spline = SmoothingSpline::new(cfg.degree, capacity)?;
+        if !(cfg.lam.is_finite() && cfg.lam >= 0.0) || (cfg.degree >= 2 && cfg.lam == 0.0) {
+            return Err(Error::InvalidArgument {
+                name: "lam",
+                expected: "a finite smoothing weight, > 0 for degree >= 2",
+                value: cfg.lam,
+            });
+        }
+        let rate = 1.0 / step;
+        let (causal, zero_phase) = match cfg.filter {
+            FilterMode::Off => (None, None),
+            FilterMode::Causal => (Some(design_lowpass(cfg.filter_order, cfg.cutoff_hz, rate)?), None),
+            FilterMode::ZeroPhase => (
+                None,
+                Some(ZeroPhase::new(design_lowpass(cfg.filter_order, cfg.cutoff_hz, rate)?, capacity)),
+            ),
+        };
+        let (units_per_second, abscissa_step) = match cfg.lambda_unit {
+            LambdaUnit::Samples => (rate, 1.0),
+            LambdaUnit::Seconds => (1.0, step),
+        };
+        let m = bspline::basis_count(capacity, cfg.degree);
+        let mut engine = Self {
+            cfg,
+            filter_state: vec![[0.0; 2]; causal.as_ref().map_or(0, SosFilter::len)],
+            causal,
+            zero_phase,
+            spline,
+            units_per_second,
+            abscissa_step,
+            values: vec![0.0; 5 * capacity],
+            smoothed: vec![0.0; 5 * capacity],
+            weights: vec![0.0; capacity],
+            abscissae: vec![0.0; capacity],
+            coeffs: vec![0.0; 5 * m],
+            fast: None,
+        };
+        if fast_path {
+            engine.fast = Some(engine.precompute_maps(capacity)?);
+        }
+        Ok(engine)
+    }
+
+    /// Runs the general path on each unit vector `e_j` of a full, uniformly weighted history:
+    /// column `j` of the linear map, once unfiltered and once filtered.
+    fn precompute_maps(&mut self, capacity: usize) -> Result<[Vec<f64>; 2]> {
+        let order = self.cfg.degree;
+        let mut maps = [vec![0.0; (order + 1) * capacity], vec![0.0; (order + 1) * capacity]];
+        let mut d: Derivatives = [[0.0; MAX_DEGREE + 1]; 5];
+        self.weights[..capacity].fill(1.0);
+        for j in 0..capacity {
+            self.values[..2 * capacity].fill(0.0);
+            self.values[j] = 1.0;
+            self.values[capacity + j] = 1.0;
+            self.solve_window(capacity, &[false, true], &mut d)?;
+            for (kind, map) in maps.iter_mut().enumerate() {
+                for k in 0..=order {
+                    map[k * capacity + j] = d[kind][k];
+                }
+            }
+        }
+        Ok(maps)
+    }
+
+    /// Fills `d` for the held history; returns the polynomial order used.
+    fn derivatives(&mut self, history: &History, d: &mut Derivatives) -> Result<usize> {
+        let n = history.len();
+        history.copy_component_major(&mut self.values[..5 * n], &mut self.weights[..n]);
+        let weights = &mut self.weights[..n];
+        let uniform = weights[0] > 0.0 && weights.iter().all(|&w| w == weights[0]);
+        match &self.fast {
+            Some(maps) if uniform && n == history.capacity() => {
+                for c in 0..5 {
+                    let map = &maps[self.cfg.filter_components[c] as usize];
+                    let x = &self.values[c * n..(c + 1) * n];
+                    for k in 0..=self.cfg.degree {
+                        d[c][k] = dot(&map[k * n..(k + 1) * n], x);
+                    }
+                }
+            }
+            _ => {
+                // Relative weights: λ keeps its meaning whatever the detector's score scale.
+                let mean = weights.iter().sum::<f64>() / n as f64;
+                if mean > 0.0 {
+                    weights.iter_mut().for_each(|w| *w /= mean);
+                }
+                let mask = self.cfg.filter_components;
+                self.solve_window(n, &mask, d)?;
+            }
+        }
+        Ok(self.extrapolation_order())
+    }
+
+    fn extrapolation_order(&self) -> usize {
+        match self.cfg.extrapolation {
+            Extrapolation::Polynomial => self.cfg.degree,
+            Extrapolation::Linear => self.cfg.degree.min(1),
+        }
+    }
+
+    /// Filter (where `filtered[c]`), fit and differentiate the first `filtered.len()` components
+    /// of `self.values` (`n` samples each) with `self.weights`.
+    fn solve_window(&mut self, n: usize, filtered: &[bool], d: &mut Derivatives) -> Result<()> {
+        let k = filtered.len();
+        for (c, &on) in filtered.iter().enumerate() {
+            let (x, y) = (&self.values[c * n..(c + 1) * n], &mut self.smoothed[c * n..(c + 1) * n]);
+            match (on, &self.causal, &mut self.zero_phase) {
+                (true, Some(sos), _) => {
+                    y.copy_from_slice(x);
+                    sos.filter_from_steady_state(y, &mut self.filter_state);
+                }
+                (true, None, Some(zp)) => zp.apply(x, y)?,
+                _ => y.copy_from_slice(x),
+            }
+        }
+        if self.spline.sample_count() != n {
+            for (i, a) in self.abscissae[..n].iter_mut().enumerate() {
+                *a = (i as f64 - (n - 1) as f64) * self.abscissa_step;
+            }
+            self.spline.set_abscissae(&self.abscissae[..n])?;
+        }
+        let m = self.spline.coefficient_count();
+        self.spline.fit(
+            &self.weights[..n],
+            self.cfg.lam,
+            &self.smoothed[..k * n],
+            &mut self.coeffs[..k * m],
+        )?;
+        let mut derivs = [0.0; MAX_DEGREE + 1];
+        for c in 0..k {
+            self.spline.end_derivatives(&self.coeffs[c * m..(c + 1) * m], &mut derivs);
+            // d/dt = (units per second) · d/du, once per order of differentiation.
+            let mut scale = 1.0;
+            for (order, v) in derivs.iter().enumerate().take(self.cfg.degree + 1) {
+                d[c][order] = v * scale;
+                scale *= self.units_per_second;
+            }
+        }
+        Ok(())
+    }
+}
+
+#[inline]
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// Forecasts many history windows in one call, for evaluations. `windows` holds
+/// `windows.len() / window_len` consecutive windows of `window_len` poses on the config's grid
+/// (azimuth may be wrapped: it is unwrapped per window); `out` receives `horizons.len()` poses
+/// per window. The config's `history` is replaced by the window length.
+pub fn forecast_batch(
+    config: &ForecasterConfig,
+    windows: &[Pose],
+    window_len: usize,
+    horizons: &[f64],
+    out: &mut [Pose],
+) -> Result<()> {
+    if window_len == 0 || windows.len() % window_len != 0 {
+        return Err(Error::LengthMismatch {
+            name: "histories",
+            expected: window_len.max(1) * (windows.len() / window_len.max(1)).max(1),
+            got: windows.len(),
+        });
+    }
+    let count = windows.len() / window_len;
+    check_len("out", out.len(), count * horizons.len())?;
+    let mut cfg = *config;
+    check_positive("rate_hz", cfg.rate_hz, "a positive, finite grid rate in Hz")?;
+    cfg.history = window_len as f64 / cfg.rate_hz;
+    let mut f = Forecaster::new(cfg)?;
+    let step = 1.0 / cfg.rate_hz;
+    for (w, (window, dest)) in windows
+        .chunks_exact(window_len)
+        .zip(out.chunks_exact_mut(horizons.len().max(1)))
+        .enumerate()
+    {
+        f.reset();
+        for (i, pose) in window.iter().enumerate() {
+            f.update(*pose, i as f64 * step, 1.0).map_err(|e| match e {
+                Error::NonFinite { name: "pose", .. } => Error::NonFinite { name: "histories", index: w },
+                other => other,
+            })?;
+        }
+        f.forecast(horizons, &mut dest[..horizons.len()])?;
+    }
+    Ok(())
+}
+
+/// Names of the pose components, in order.
+pub const COMPONENTS: [&str; 5] = ["x", "y", "z", "azimuth", "elevation"];
+
+const _: () = assert!(AZIMUTH == 3 && ELEVATION == 4);

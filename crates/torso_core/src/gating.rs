@@ -1,0 +1,173 @@
+//! Per-joint temporal gating (thesis section 3.2): a joint that moves more than a threshold
+//! between consecutive frames, or is missing, is replaced by its previous value; after too many
+//! consecutive replacements it is reported lost rather than frozen forever, and the next finite
+//! measurement is accepted afresh.
+
+use crate::error::{check_len, check_positive, Error, Result};
+
+/// Gating parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GateConfig {
+    /// Largest accepted frame-to-frame displacement (m). Thesis: 0.10 m.
+    pub threshold: f64,
+    /// Consecutive replacements after which the joint is reported lost. The thesis leaves this
+    /// open; 10 frames is 0.4 s at 25 Hz, about as long as a torso joint can be held still before
+    /// a walking person has moved away from it.
+    pub max_replacements: u32,
+}
+
+impl Default for GateConfig {
+    fn default() -> Self {
+        Self {
+            threshold: 0.10,
+            max_replacements: 10,
+        }
+    }
+}
+
+/// What the gate did with one joint in one frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[repr(u8)]
+pub enum JointStatus {
+    /// The measurement was accepted.
+    Measured = 0,
+    /// Missing or jumping: the previous accepted position was used.
+    Replaced = 1,
+    /// No usable position: never seen yet, or replaced too many times in a row. Output is NaN.
+    #[default]
+    Lost = 2,
+}
+
+/// Gating state for one person's joints; all buffers are sized at construction.
+#[derive(Clone, Debug)]
+pub struct JointGate {
+    config: GateConfig,
+    previous: Vec<Option<[f64; 3]>>,
+    replaced_run: Vec<u32>,
+}
+
+impl JointGate {
+    pub fn new(n_joints: usize, config: GateConfig) -> Result<Self> {
+        check_positive("threshold", config.threshold, "a positive, finite distance in metres")?;
+        if n_joints == 0 {
+            return Err(Error::InvalidArgument {
+                name: "n_joints",
+                expected: "at least one joint",
+                value: 0.0,
+            });
+        }
+        Ok(Self {
+            config,
+            previous: vec![None; n_joints],
+            replaced_run: vec![0; n_joints],
+        })
+    }
+
+    pub fn n_joints(&self) -> usize {
+        self.previous.len()
+    }
+
+    pub fn config(&self) -> GateConfig {
+        self.config
+    }
+
+    /// Forgets every joint (a new track).
+    pub fn reset(&mut self) {
+        self.previous.fill(None);
+        self.replaced_run.fill(0);
+    }
+
+    /// Gates one frame in place: `joints` (NaN = missing) become the gated positions and
+    /// `status` says what happened to each. Lengths are checked before any state changes.
+    pub fn update(&mut self, joints: &mut [[f64; 3]], status: &mut [JointStatus]) -> Result<()> {
+        check_len("joints", joints.len(), self.n_joints())?;
+        check_len("status", status.len(), self.n_joints())?;
+        let limit = self.config.threshold * self.config.threshold;
+        for ((x, st), (prev, run)) in joints
+            .iter_mut()
+            .zip(status.iter_mut())
+            .zip(self.previous.iter_mut().zip(self.replaced_run.iter_mut()))
+        {
+            let finite = x.iter().all(|v| v.is_finite());
+            *st = match *prev {
+                Some(p) if finite && squared_distance(x, &p) <= limit => JointStatus::Measured,
+                Some(_) if *run < self.config.max_replacements => JointStatus::Replaced,
+                Some(_) => JointStatus::Lost,
+                None if finite => JointStatus::Measured,
+                None => JointStatus::Lost,
+            };
+            match *st {
+                JointStatus::Measured => {
+                    *prev = Some(*x);
+                    *run = 0;
+                }
+                JointStatus::Replaced => {
+                    *x = prev.expect("replaced joints have a previous value");
+                    *run += 1;
+                }
+                JointStatus::Lost => {
+                    *x = [f64::NAN; 3];
+                    *prev = None;
+                    *run = 0;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+fn squared_distance(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    (0..3).map(|k| (a[k] - b[k]) * (a[k] - b[k])).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use JointStatus::*;
+
+    #[test]
+    fn jumps_and_gaps_are_replaced_then_lost_then_reacquired() {
+        let mut gate = JointGate::new(1, GateConfig { threshold: 0.1, max_replacements: 2 }).unwrap();
+        let mut st = [Lost];
+        let mut run = |x: [f64; 3]| {
+            let mut j = [x];
+            gate.update(&mut j, &mut st).unwrap();
+            (j[0], st[0])
+        };
+        assert_eq!(run([0.0, 0.0, 1.0]), ([0.0, 0.0, 1.0], Measured));
+        assert_eq!(run([0.05, 0.0, 1.0]), ([0.05, 0.0, 1.0], Measured));
+        assert_eq!(run([0.5, 0.0, 1.0]), ([0.05, 0.0, 1.0], Replaced));
+        assert_eq!(run([f64::NAN; 3]), ([0.05, 0.0, 1.0], Replaced));
+        let (x, s) = run([0.6, 0.0, 1.0]);
+        assert!(x[0].is_nan() && s == Lost);
+        assert_eq!(run([0.6, 0.0, 1.0]), ([0.6, 0.0, 1.0], Measured));
+    }
+
+    #[test]
+    fn threshold_is_inclusive_and_checked_against_the_last_accepted_value() {
+        let mut gate = JointGate::new(2, GateConfig::default()).unwrap();
+        let mut st = [Lost; 2];
+        let mut j = [[0.0, 0.0, 0.0], [f64::NAN; 3]];
+        gate.update(&mut j, &mut st).unwrap();
+        assert_eq!(st, [Measured, Lost]);
+        let mut j = [[0.0, 0.0, 0.1], [1.0, 1.0, 1.0]];
+        gate.update(&mut j, &mut st).unwrap();
+        assert_eq!(st, [Measured, Measured]);
+    }
+
+    #[test]
+    fn bad_calls_leave_the_state_alone() {
+        assert!(JointGate::new(3, GateConfig { threshold: -1.0, max_replacements: 1 }).is_err());
+        assert!(JointGate::new(0, GateConfig::default()).is_err());
+        let mut gate = JointGate::new(2, GateConfig::default()).unwrap();
+        let mut j = [[0.0; 3]];
+        assert!(matches!(
+            gate.update(&mut j, &mut [Lost; 2]),
+            Err(Error::LengthMismatch { name: "joints", .. })
+        ));
+        let mut j = [[0.0; 3], [1.0; 3]];
+        let mut st = [Lost; 2];
+        gate.update(&mut j, &mut st).unwrap();
+        assert_eq!(st, [Measured, Measured]);
+    }
+}

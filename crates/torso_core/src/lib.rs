@@ -1,0 +1,56 @@
+//! # torso_core
+//!
+//! The per-frame mathematics of torsocast, after "Human Torso Pose Forecasting for the Real
+//! World" (thesis chapter 3): the least-squares torso plane, per-joint temporal gating, the
+//! Butterworth low-pass and the penalised B-spline fit that forecasts each pose component.
+//!
+//! Conventions: SI units (metres, seconds, radians); world frame as REP-103 (x forward, y left,
+//! z up); a missing joint is NaN; azimuth is unwrapped inside the forecaster.
+//!
+//! No I/O and no Python: other Rust robot code can depend on this crate directly. Objects that
+//! run per frame ([`Forecaster`], [`JointGate`], [`SmoothingSpline`], [`LowPass`],
+//! [`ZeroPhase`]) size every buffer at construction and never allocate afterwards.
+//!
+//! ```
+//! use torso_core::{Forecaster, ForecasterConfig};
+//! let mut f = Forecaster::new(ForecasterConfig::default()).unwrap();
+//! for k in 0..50 {
+//!     let t = k as f64 / 25.0;
+//!     // Walking forward along x at 1 m/s while turning left at 0.5 rad/s.
+//!     f.update([t, 0.0, 1.0, 0.5 * t, 1.5], t, 1.0).unwrap();
+//! }
+//! let mut out = [[0.0; 5]; 2];
+//! f.forecast(&[0.4, 1.0], &mut out).unwrap();
+//! assert!((out[1][0] - 2.96).abs() < 1e-6); // x one second after t = 1.96 s
+//! // Azimuth keeps turning; the zero-phase filter's end transient costs about 3e-4 rad here.
+//! assert!((out[1][3] - 1.48).abs() < 1e-3);
+//! ```
+
+pub mod banded;
+pub mod bspline;
+pub mod butterworth;
+pub mod error;
+pub mod forecaster;
+pub mod gating;
+pub mod history;
+pub mod plane;
+pub mod smoothing;
+
+pub use butterworth::{design_lowpass, LowPass, SosFilter, ZeroPhase};
+pub use error::{Error, Result};
+pub use forecaster::{
+    forecast_batch, Extrapolation, FilterMode, FilterSplineConfig, Forecaster, ForecasterConfig,
+    LambdaUnit, Method,
+};
+pub use gating::{GateConfig, JointGate, JointStatus};
+pub use history::UpdateReport;
+pub use plane::{fit_torso_plane, shoulder_heading, ShoulderHeading, Side, TorsoPlane};
+pub use smoothing::{fit_smoothing_spline, SmoothingSpline};
+
+/// A torso pose as the forecaster sees it: `[x, y, z, azimuth, elevation]` (m, m, m, rad, rad).
+pub type Pose = [f64; 5];
+
+/// Index of the azimuth in a [`Pose`].
+pub const AZIMUTH: usize = 3;
+/// Index of the elevation in a [`Pose`].
+pub const ELEVATION: usize = 4;

@@ -1,0 +1,278 @@
+//! The torso plane (thesis eqs. 3.1 to 3.4): the least-squares plane through the valid torso
+//! joints, its centre, its normal oriented out of the chest, and the normal's azimuth and
+//! elevation in the gravity-aligned world frame (REP-103: x forward, y left, z up).
+//!
+//! The plane minimising the (weighted) sum of squared distances passes through the weighted
+//! mean `c` (eq. 3.2) and its normal is the eigenvector of the smallest eigenvalue of the 3×3
+//! scatter matrix `S = Σ w (x - c)(x - c)ᵀ`. All of it lives on the stack.
+
+use crate::error::{check_len, check_weights, Error, Result};
+use nalgebra::{Matrix3, SymmetricEigen, Vector3};
+
+/// Which side of the body a torso joint is on; the sign of the normal comes from it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Side {
+    Left,
+    Right,
+    Centre,
+}
+
+/// Ratio `λ_mid / λ_max` of the scatter eigenvalues under which the joints count as collinear.
+/// A torso is about 0.35 m wide and 0.5 m tall (ratio near 0.5); 1e-4 means the spread across
+/// the line is under 1 % of the spread along it, where the normal is noise.
+pub const MIN_PLANARITY: f64 = 1e-4;
+
+/// `|n · f̂|` under which the normal counts as perpendicular to the body's forward reference
+/// `f = (left - right) × up`, so its sign cannot be chosen (about 3 degrees from ambiguity).
+pub const MIN_ORIENTATION_COSINE: f64 = 0.05;
+
+/// A fitted torso plane.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TorsoPlane {
+    /// Weighted mean of the valid joints (m).
+    pub centre: [f64; 3],
+    /// Unit normal, pointing out of the chest.
+    pub normal: [f64; 3],
+    /// `atan2(n_y, n_x)` in (-π, π] (rad).
+    pub azimuth: f64,
+    /// `acos(n_z)` in [0, π] (rad); π/2 is an upright torso.
+    pub elevation: f64,
+    /// Weighted RMS distance of the joints from the plane (m).
+    pub rms_residual: f64,
+    /// Joints that entered the fit.
+    pub joints_used: usize,
+}
+
+/// Fits the torso plane. `points[i]` is joint `i` in the world frame (NaN when missing), `sides[i]`
+/// its side of the body and `weights[i]` its confidence (`None` for uniform; zero excludes it).
+pub fn fit_torso_plane(
+    points: &[[f64; 3]],
+    sides: &[Side],
+    weights: Option<&[f64]>,
+) -> Result<TorsoPlane> {
+    check_len("sides", sides.len(), points.len())?;
+    if let Some(w) = weights {
+        check_len("weights", w.len(), points.len())?;
+        check_weights("weights", w)?;
+    }
+    let weight = |i: usize| weights.map_or(1.0, |w| w[i]);
+    let valid = |i: usize| weight(i) > 0.0 && points[i].iter().all(|v| v.is_finite());
+
+    let mut sum_w = 0.0;
+    let mut centre = Vector3::zeros();
+    let mut used = 0;
+    for i in (0..points.len()).filter(|&i| valid(i)) {
+        let w = weight(i);
+        centre += w * Vector3::from(points[i]);
+        sum_w += w;
+        used += 1;
+    }
+    if used < 3 {
+        return Err(Error::TooFewJoints {
+            valid: used,
+            needed: 3,
+        });
+    }
+    centre /= sum_w;
+
+    // Two passes (mean, then scatter) keep the scatter accurate far from the origin.
+    let mut scatter = Matrix3::zeros();
+    for i in (0..points.len()).filter(|&i| valid(i)) {
+        let d = Vector3::from(points[i]) - centre;
+        scatter += weight(i) * d * d.transpose();
+    }
+    let eigen = SymmetricEigen::new(scatter);
+    let mut order = [0usize, 1, 2];
+    order.sort_by(|&a, &b| eigen.eigenvalues[a].total_cmp(&eigen.eigenvalues[b]));
+    let (smallest, middle, largest) = (
+        eigen.eigenvalues[order[0]],
+        eigen.eigenvalues[order[1]],
+        eigen.eigenvalues[order[2]],
+    );
+    let planarity = if largest > 0.0 { middle / largest } else { 0.0 };
+    if !(planarity >= MIN_PLANARITY) {
+        return Err(Error::CollinearJoints { planarity });
+    }
+    let mut normal: Vector3<f64> = eigen.eigenvectors.column(order[0]).normalize();
+
+    // Sign: out of the chest, i.e. along the forward reference (left - right) × up.
+    let (mut left, mut right) = ((Vector3::zeros(), 0.0), (Vector3::zeros(), 0.0));
+    for i in (0..points.len()).filter(|&i| valid(i)) {
+        let acc = match sides[i] {
+            Side::Left => &mut left,
+            Side::Right => &mut right,
+            Side::Centre => continue,
+        };
+        acc.0 += weight(i) * Vector3::from(points[i]);
+        acc.1 += weight(i);
+    }
+    if left.1 == 0.0 || right.1 == 0.0 {
+        return Err(Error::AmbiguousOrientation);
+    }
+    let forward = forward_reference(left.0 / left.1 - right.0 / right.1)?;
+    let cosine = normal.dot(&forward);
+    if cosine.abs() < MIN_ORIENTATION_COSINE {
+        return Err(Error::AmbiguousOrientation);
+    }
+    if cosine < 0.0 {
+        normal = -normal;
+    }
+    let (azimuth, elevation) = angles(&normal);
+    Ok(TorsoPlane {
+        centre: centre.into(),
+        normal: normal.into(),
+        azimuth,
+        elevation,
+        rms_residual: (smallest.max(0.0) / sum_w).sqrt(),
+        joints_used: used,
+    })
+}
+
+/// Unit forward direction `(left - right) × ẑ` of a body whose left-right axis is `lr`. Refused
+/// when that axis is within about 6 degrees of vertical, where the cross product is all noise.
+fn forward_reference(lr: Vector3<f64>) -> Result<Vector3<f64>> {
+    let forward = Vector3::new(lr.y, -lr.x, 0.0);
+    let norm = forward.norm();
+    if !(norm > 0.1 * lr.norm()) {
+        return Err(Error::AmbiguousOrientation);
+    }
+    Ok(forward / norm)
+}
+
+/// Azimuth `atan2(n_y, n_x)` and elevation `acos(n_z / |n|)` of a normal (eqs. 3.3, 3.4).
+fn angles(n: &Vector3<f64>) -> (f64, f64) {
+    (n.y.atan2(n.x), (n.z / n.norm()).clamp(-1.0, 1.0).acos())
+}
+
+/// A heading from the shoulders alone, for frames where the hips are not seen. It has no
+/// elevation: the shoulder line fixes the facing direction about gravity, nothing more.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShoulderHeading {
+    /// Midpoint of the shoulders (m), not the torso centre: it sits about 0.25 m higher.
+    pub centre: [f64; 3],
+    /// Azimuth of `(left - right) × up` (rad), comparable with [`TorsoPlane::azimuth`].
+    pub azimuth: f64,
+}
+
+/// Azimuth from the shoulder line and gravity.
+pub fn shoulder_heading(left: [f64; 3], right: [f64; 3]) -> Result<ShoulderHeading> {
+    let valid = left.iter().all(|v| v.is_finite()) as usize + right.iter().all(|v| v.is_finite()) as usize;
+    if valid < 2 {
+        return Err(Error::TooFewJoints { valid, needed: 2 });
+    }
+    let (l, r) = (Vector3::from(left), Vector3::from(right));
+    let forward = forward_reference(l - r)?;
+    Ok(ShoulderHeading {
+        centre: (0.5 * (l + r)).into(),
+        azimuth: forward.y.atan2(forward.x),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::FRAC_PI_2;
+
+    /// Shoulders and hips of an upright person at `origin` facing azimuth `yaw`, leaning
+    /// forward by `lean` radians.
+    pub(crate) fn torso(origin: [f64; 3], yaw: f64, lean: f64) -> ([[f64; 3]; 5], [Side; 5]) {
+        let local = [
+            [0.0, 0.18, 0.5],   // left shoulder
+            [0.0, -0.18, 0.5],  // right shoulder
+            [0.0, 0.12, 0.0],   // left hip
+            [0.0, -0.12, 0.0],  // right hip
+            [0.02, 0.0, 0.45],  // thorax, a little in front of the plane
+        ];
+        let mut out = [[0.0; 3]; 5];
+        for (o, p) in out.iter_mut().zip(local) {
+            // Lean about the local y axis (forward tilt), then yaw about z.
+            let (x, z) = (p[0] * lean.cos() + p[2] * lean.sin(), -p[0] * lean.sin() + p[2] * lean.cos());
+            let y = p[1];
+            *o = [
+                origin[0] + x * yaw.cos() - y * yaw.sin(),
+                origin[1] + x * yaw.sin() + y * yaw.cos(),
+                origin[2] + z,
+            ];
+        }
+        (out, [Side::Left, Side::Right, Side::Left, Side::Right, Side::Centre])
+    }
+
+    #[test]
+    fn upright_torso_facing_forward() {
+        let (p, s) = torso([2.0, -1.0, 0.9], 0.0, 0.0);
+        let plane = fit_torso_plane(&p[..4], &s[..4], None).unwrap();
+        assert!(plane.azimuth.abs() < 1e-12);
+        assert!((plane.elevation - FRAC_PI_2).abs() < 1e-12);
+        assert!((plane.centre[2] - 1.15).abs() < 1e-12);
+        assert!(plane.rms_residual < 1e-12);
+    }
+
+    #[test]
+    fn yaw_and_lean_are_recovered() {
+        for &yaw in &[-3.0, -1.2, 0.4, 2.9] {
+            for &lean in &[0.0, 0.3, -0.2] {
+                let (p, s) = torso([0.0, 0.0, 1.0], yaw, lean);
+                let plane = fit_torso_plane(&p[..4], &s[..4], None).unwrap();
+                assert!((plane.azimuth - yaw).abs() < 1e-9, "yaw {yaw}: {}", plane.azimuth);
+                // Leaning forward tips the chest normal down: elevation grows by the lean.
+                assert!((plane.elevation - (FRAC_PI_2 + lean)).abs() < 1e-9);
+            }
+        }
+    }
+
+    #[test]
+    fn weights_exclude_and_missing_joints_are_skipped() {
+        let (mut p, s) = torso([0.0, 0.0, 1.0], 0.5, 0.0);
+        // The thorax sits off the plane; zero weight removes its pull entirely.
+        let with_thorax = fit_torso_plane(&p, &s, None).unwrap();
+        let without = fit_torso_plane(&p, &s, Some(&[1.0, 1.0, 1.0, 1.0, 0.0])).unwrap();
+        assert!(with_thorax.rms_residual > 1e-3 && without.rms_residual < 1e-12);
+        p[4] = [f64::NAN; 3];
+        assert_eq!(fit_torso_plane(&p, &s, None).unwrap(), without);
+    }
+
+    #[test]
+    fn degenerate_inputs_are_typed_errors() {
+        let (p, s) = torso([0.0, 0.0, 1.0], 0.0, 0.0);
+        assert_eq!(
+            fit_torso_plane(&p[..2], &s[..2], None),
+            Err(Error::TooFewJoints { valid: 2, needed: 3 })
+        );
+        let line = [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 2.0, 1e-9]];
+        assert!(matches!(
+            fit_torso_plane(&line, &[Side::Left, Side::Centre, Side::Right], None),
+            Err(Error::CollinearJoints { .. })
+        ));
+        assert_eq!(
+            fit_torso_plane(&p[..4], &[Side::Centre; 4], None),
+            Err(Error::AmbiguousOrientation)
+        );
+        assert!(matches!(
+            fit_torso_plane(&p, &s[..3], None),
+            Err(Error::LengthMismatch { name: "sides", .. })
+        ));
+        assert!(matches!(
+            fit_torso_plane(&p, &s, Some(&[1.0, 1.0, f64::NAN, 1.0, 1.0])),
+            Err(Error::InvalidArgument { name: "weights", .. })
+        ));
+        // Lying flat on the back: the chest faces up, left-right axis horizontal, normal vertical.
+        let flat = [[0.0, 0.2, 0.3], [0.0, -0.2, 0.3], [0.5, 0.2, 0.3], [0.5, -0.2, 0.3]];
+        assert_eq!(
+            fit_torso_plane(&flat, &[Side::Left, Side::Right, Side::Left, Side::Right], None),
+            Err(Error::AmbiguousOrientation)
+        );
+    }
+
+    #[test]
+    fn shoulder_heading_agrees_with_the_plane_for_an_upright_torso() {
+        let (p, s) = torso([1.0, 1.0, 1.0], -2.2, 0.0);
+        let plane = fit_torso_plane(&p[..4], &s[..4], None).unwrap();
+        let heading = shoulder_heading(p[0], p[1]).unwrap();
+        assert!((heading.azimuth - plane.azimuth).abs() < 1e-12);
+        assert!(shoulder_heading(p[0], [f64::NAN; 3]).is_err());
+        assert_eq!(
+            shoulder_heading([0.0, 0.0, 1.0], [0.0, 0.0, 1.5]),
+            Err(Error::AmbiguousOrientation)
+        );
+    }
+}
