@@ -99,7 +99,12 @@ mod tests {
         factor(&mut band, n, p).unwrap();
         solve(&band, n, p, &mut b);
         for i in 0..n {
-            assert!((b[i] - x_true[i]).abs() < 1e-13, "{i}: {} vs {}", b[i], x_true[i]);
+            assert!(
+                (b[i] - x_true[i]).abs() < 1e-13,
+                "{i}: {} vs {}",
+                b[i],
+                x_true[i]
+            );
         }
     }
 

@@ -38,7 +38,8 @@ pub fn design_lowpass(order: usize, cutoff_hz: f64, rate_hz: f64) -> Result<SosF
     if !(cutoff_hz.is_finite() && cutoff_hz > 0.0 && cutoff_hz < 0.5 * rate_hz) {
         return Err(Error::InvalidArgument {
             name: "cutoff_hz",
-            expected: "a cut-off frequency strictly between 0 and the Nyquist frequency rate_hz / 2",
+            expected:
+                "a cut-off frequency strictly between 0 and the Nyquist frequency rate_hz / 2",
             value: cutoff_hz,
         });
     }
@@ -73,9 +74,16 @@ fn zpk2sos_nearest(mut z: Vec<Complex<f64>>, mut p: Vec<Complex<f64>>, k: f64) -
     // the real ones with their imaginary parts set to exactly zero.
     let tol = 100.0 * f64::EPSILON;
     let is_real = |c: &Complex<f64>| c.im.abs() <= tol * c.norm();
-    let mut p_cplx: Vec<Complex<f64>> = p.iter().filter(|c| !is_real(c) && c.im > 0.0).copied().collect();
+    let mut p_cplx: Vec<Complex<f64>> = p
+        .iter()
+        .filter(|c| !is_real(c) && c.im > 0.0)
+        .copied()
+        .collect();
     p_cplx.sort_by(|a, b| a.re.total_cmp(&b.re));
-    let p_real = p.iter().filter(|c| is_real(c)).map(|c| Complex::new(c.re, 0.0));
+    let p_real = p
+        .iter()
+        .filter(|c| is_real(c))
+        .map(|c| Complex::new(c.re, 0.0));
     let mut p: Vec<Complex<f64>> = p_cplx.into_iter().chain(p_real).collect();
     let mut z: Vec<Complex<f64>> = z.iter().map(|c| Complex::new(c.re, 0.0)).collect();
 
@@ -139,7 +147,14 @@ fn zpk2sos_nearest(mut z: Vec<Complex<f64>>, mut p: Vec<Complex<f64>>, k: f64) -
 
 /// Section with two real zeros and two real poles.
 fn biquad(z: [f64; 2], p: [f64; 2]) -> Section {
-    [1.0, -(z[0] + z[1]), z[0] * z[1], 1.0, -(p[0] + p[1]), p[0] * p[1]]
+    [
+        1.0,
+        -(z[0] + z[1]),
+        z[0] * z[1],
+        1.0,
+        -(p[0] + p[1]),
+        p[0] * p[1],
+    ]
 }
 
 /// `sosfilt_zi`: per-section states that make a constant unit input pass through unchanged.
@@ -241,7 +256,10 @@ impl LowPass {
     /// Filters one sample. A non-finite sample is rejected and leaves the state untouched.
     pub fn step(&mut self, x: f64) -> Result<f64> {
         if !x.is_finite() {
-            return Err(Error::NonFinite { name: "x", index: 0 });
+            return Err(Error::NonFinite {
+                name: "x",
+                index: 0,
+            });
         }
         if !self.started {
             self.filter.start_at(x, &mut self.state);
@@ -421,11 +439,17 @@ mod tests {
         assert!(design_lowpass(9, 5.0, 25.0).is_err());
         assert!(matches!(
             design_lowpass(2, 12.5, 25.0),
-            Err(Error::InvalidArgument { name: "cutoff_hz", .. })
+            Err(Error::InvalidArgument {
+                name: "cutoff_hz",
+                ..
+            })
         ));
         assert!(matches!(
             design_lowpass(2, 5.0, f64::NAN),
-            Err(Error::InvalidArgument { name: "rate_hz", .. })
+            Err(Error::InvalidArgument {
+                name: "rate_hz",
+                ..
+            })
         ));
     }
 }

@@ -59,7 +59,7 @@ pub struct FilterSplineConfig {
     pub cutoff_hz: f64,
     /// Which of `[x, y, z, azimuth, elevation]` are filtered. Thesis: the two angles.
     pub filter_components: [bool; 5],
-    /// Spline degree `N` (0 to 5). Thesis: 1.
+    /// Spline degree `N` (0 to 4). Thesis: 1.
     pub degree: usize,
     /// Roughness weight λ. Thesis: 1.
     pub lam: f64,
@@ -143,6 +143,9 @@ impl ForecasterConfig {
     }
 }
 
+/// Floor of the relative sample weights in the spline fit (see `SplineEngine::derivatives`).
+pub const MIN_RELATIVE_WEIGHT: f64 = 1e-9;
+
 /// Derivatives `d_ck` per component, in seconds.
 type Derivatives = [[f64; MAX_DEGREE + 1]; 5];
 
@@ -185,8 +188,16 @@ struct SplineEngine {
 
 impl Forecaster {
     pub fn new(config: ForecasterConfig) -> Result<Self> {
-        check_positive("rate_hz", config.rate_hz, "a positive, finite grid rate in Hz")?;
-        check_positive("history", config.history, "a positive, finite history length in seconds")?;
+        check_positive(
+            "rate_hz",
+            config.rate_hz,
+            "a positive, finite grid rate in Hz",
+        )?;
+        check_positive(
+            "history",
+            config.history,
+            "a positive, finite history length in seconds",
+        )?;
         let capacity = config.capacity();
         if !(2..=100_000).contains(&capacity) {
             return Err(Error::InvalidArgument {
@@ -208,14 +219,21 @@ impl Forecaster {
             Method::Const => Engine::Const,
             Method::ConstantVelocity { window: None } => Engine::Velocity { window_steps: None },
             Method::ConstantVelocity { window: Some(w) } => {
-                check_positive("window", w, "a positive velocity window in seconds, or None")?;
+                check_positive(
+                    "window",
+                    w,
+                    "a positive velocity window in seconds, or None",
+                )?;
                 Engine::Velocity {
                     window_steps: Some(((w * config.rate_hz).round() as usize).max(1)),
                 }
             }
-            Method::FilterSpline(cfg) => {
-                Engine::Spline(Box::new(SplineEngine::new(cfg, capacity, step, config.fast_path)?))
-            }
+            Method::FilterSpline(cfg) => Engine::Spline(Box::new(SplineEngine::new(
+                cfg,
+                capacity,
+                step,
+                config.fast_path,
+            )?)),
         };
         Ok(Self {
             config,
@@ -341,10 +359,16 @@ impl SplineEngine {
         let rate = 1.0 / step;
         let (causal, zero_phase) = match cfg.filter {
             FilterMode::Off => (None, None),
-            FilterMode::Causal => (Some(design_lowpass(cfg.filter_order, cfg.cutoff_hz, rate)?), None),
+            FilterMode::Causal => (
+                Some(design_lowpass(cfg.filter_order, cfg.cutoff_hz, rate)?),
+                None,
+            ),
             FilterMode::ZeroPhase => (
                 None,
-                Some(ZeroPhase::new(design_lowpass(cfg.filter_order, cfg.cutoff_hz, rate)?, capacity)),
+                Some(ZeroPhase::new(
+                    design_lowpass(cfg.filter_order, cfg.cutoff_hz, rate)?,
+                    capacity,
+                )),
             ),
         };
         let (units_per_second, abscissa_step) = match cfg.lambda_unit {
@@ -377,7 +401,10 @@ impl SplineEngine {
     /// column `j` of the linear map, once unfiltered and once filtered.
     fn precompute_maps(&mut self, capacity: usize) -> Result<[Vec<f64>; 2]> {
         let order = self.cfg.degree;
-        let mut maps = [vec![0.0; (order + 1) * capacity], vec![0.0; (order + 1) * capacity]];
+        let mut maps = [
+            vec![0.0; (order + 1) * capacity],
+            vec![0.0; (order + 1) * capacity],
+        ];
         let mut d: Derivatives = [[0.0; MAX_DEGREE + 1]; 5];
         self.weights[..capacity].fill(1.0);
         for j in 0..capacity {
@@ -411,11 +438,14 @@ impl SplineEngine {
                 }
             }
             _ => {
-                // Relative weights: λ keeps its meaning whatever the detector's score scale.
+                // Relative weights: λ keeps its meaning whatever the detector's score scale. The
+                // floor keeps zero-weight (gap-filled) samples from leaving an interpolating fit
+                // (N <= 1, where the penalty vanishes) under-determined; for N >= 2 it is noise.
                 let mean = weights.iter().sum::<f64>() / n as f64;
-                if mean > 0.0 {
-                    weights.iter_mut().for_each(|w| *w /= mean);
-                }
+                let scale = if mean > 0.0 { 1.0 / mean } else { 1.0 };
+                weights
+                    .iter_mut()
+                    .for_each(|w| *w = (*w * scale).max(MIN_RELATIVE_WEIGHT));
                 let mask = self.cfg.filter_components;
                 self.solve_window(n, &mask, d)?;
             }
@@ -435,7 +465,10 @@ impl SplineEngine {
     fn solve_window(&mut self, n: usize, filtered: &[bool], d: &mut Derivatives) -> Result<()> {
         let k = filtered.len();
         for (c, &on) in filtered.iter().enumerate() {
-            let (x, y) = (&self.values[c * n..(c + 1) * n], &mut self.smoothed[c * n..(c + 1) * n]);
+            let (x, y) = (
+                &self.values[c * n..(c + 1) * n],
+                &mut self.smoothed[c * n..(c + 1) * n],
+            );
             match (on, &self.causal, &mut self.zero_phase) {
                 (true, Some(sos), _) => {
                     y.copy_from_slice(x);
@@ -460,7 +493,8 @@ impl SplineEngine {
         )?;
         let mut derivs = [0.0; MAX_DEGREE + 1];
         for c in 0..k {
-            self.spline.end_derivatives(&self.coeffs[c * m..(c + 1) * m], &mut derivs);
+            self.spline
+                .end_derivatives(&self.coeffs[c * m..(c + 1) * m], &mut derivs);
             // d/dt = (units per second) · d/du, once per order of differentiation.
             let mut scale = 1.0;
             for (order, v) in derivs.iter().enumerate().take(self.cfg.degree + 1) {
@@ -510,7 +544,10 @@ pub fn forecast_batch(
         f.reset();
         for (i, pose) in window.iter().enumerate() {
             f.update(*pose, i as f64 * step, 1.0).map_err(|e| match e {
-                Error::NonFinite { name: "pose", .. } => Error::NonFinite { name: "histories", index: w },
+                Error::NonFinite { name: "pose", .. } => Error::NonFinite {
+                    name: "histories",
+                    index: w,
+                },
                 other => other,
             })?;
         }

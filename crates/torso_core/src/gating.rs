@@ -48,7 +48,11 @@ pub struct JointGate {
 
 impl JointGate {
     pub fn new(n_joints: usize, config: GateConfig) -> Result<Self> {
-        check_positive("threshold", config.threshold, "a positive, finite distance in metres")?;
+        check_positive(
+            "threshold",
+            config.threshold,
+            "a positive, finite distance in metres",
+        )?;
         if n_joints == 0 {
             return Err(Error::InvalidArgument {
                 name: "n_joints",
@@ -127,7 +131,14 @@ mod tests {
 
     #[test]
     fn jumps_and_gaps_are_replaced_then_lost_then_reacquired() {
-        let mut gate = JointGate::new(1, GateConfig { threshold: 0.1, max_replacements: 2 }).unwrap();
+        let mut gate = JointGate::new(
+            1,
+            GateConfig {
+                threshold: 0.1,
+                max_replacements: 2,
+            },
+        )
+        .unwrap();
         let mut st = [Lost];
         let mut run = |x: [f64; 3]| {
             let mut j = [x];
@@ -157,7 +168,14 @@ mod tests {
 
     #[test]
     fn bad_calls_leave_the_state_alone() {
-        assert!(JointGate::new(3, GateConfig { threshold: -1.0, max_replacements: 1 }).is_err());
+        assert!(JointGate::new(
+            3,
+            GateConfig {
+                threshold: -1.0,
+                max_replacements: 1
+            }
+        )
+        .is_err());
         assert!(JointGate::new(0, GateConfig::default()).is_err());
         let mut gate = JointGate::new(2, GateConfig::default()).unwrap();
         let mut j = [[0.0; 3]];

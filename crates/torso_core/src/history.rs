@@ -60,7 +60,7 @@ impl History {
 
     /// Grid time of the newest sample.
     pub fn last_time(&self) -> Option<f64> {
-        (self.len > 0).then(|| self.origin + self.last_slot as f64 * self.step)
+        (self.len > 0).then_some(self.origin + self.last_slot as f64 * self.step)
     }
 
     /// The `i`-th sample, oldest first: pose (azimuth unwrapped) and weight.
@@ -78,10 +78,16 @@ impl History {
     /// leaves the history exactly as it was.
     pub fn push(&mut self, pose: Pose, t: f64, weight: f64) -> Result<UpdateReport> {
         if !t.is_finite() {
-            return Err(Error::NonFinite { name: "t", index: 0 });
+            return Err(Error::NonFinite {
+                name: "t",
+                index: 0,
+            });
         }
         if let Some(index) = pose.iter().position(|v| !v.is_finite()) {
-            return Err(Error::NonFinite { name: "pose", index });
+            return Err(Error::NonFinite {
+                name: "pose",
+                index,
+            });
         }
         if !(weight.is_finite() && weight >= 0.0) {
             return Err(Error::InvalidArgument {
@@ -185,7 +191,13 @@ mod tests {
         h.push(pose(0.0, 0.0), 1.0, 1.0).unwrap();
         // Two slots skipped, with 5 ms of jitter.
         let r = h.push(pose(3.0, 0.0), 1.125, 1.0).unwrap();
-        assert_eq!(r, UpdateReport { filled: 2, restarted: false });
+        assert_eq!(
+            r,
+            UpdateReport {
+                filled: 2,
+                restarted: false
+            }
+        );
         assert_eq!(h.len(), 4);
         assert_eq!(h.get(1), (pose(1.0, 0.0), 0.0));
         assert!((h.last_time().unwrap() - 1.12).abs() < 1e-12);
@@ -199,18 +211,36 @@ mod tests {
         for k in 0..5 {
             h.push(pose(k as f64, 0.0), k as f64 * 0.1, 1.0).unwrap();
         }
-        assert_eq!((0..3).map(|i| h.get(i).0[0]).collect::<Vec<_>>(), vec![2.0, 3.0, 4.0]);
+        assert_eq!(
+            (0..3).map(|i| h.get(i).0[0]).collect::<Vec<_>>(),
+            vec![2.0, 3.0, 4.0]
+        );
     }
 
     #[test]
     fn rejected_samples_change_nothing() {
         let mut h = History::new(3, 25.0, 1);
         h.push(pose(0.0, 0.0), 0.0, 1.0).unwrap();
-        assert!(matches!(h.push(pose(1.0, 0.0), 0.01, 1.0), Err(Error::TimeNotIncreasing { .. })));
-        assert!(matches!(h.push(pose(1.0, 0.0), -1.0, 1.0), Err(Error::TimeNotIncreasing { .. })));
-        assert!(matches!(h.push([f64::NAN; 5], 0.04, 1.0), Err(Error::NonFinite { name: "pose", .. })));
-        assert!(matches!(h.push(pose(1.0, 0.0), f64::NAN, 1.0), Err(Error::NonFinite { name: "t", .. })));
-        assert!(matches!(h.push(pose(1.0, 0.0), 0.04, -0.5), Err(Error::InvalidArgument { name: "weight", .. })));
+        assert!(matches!(
+            h.push(pose(1.0, 0.0), 0.01, 1.0),
+            Err(Error::TimeNotIncreasing { .. })
+        ));
+        assert!(matches!(
+            h.push(pose(1.0, 0.0), -1.0, 1.0),
+            Err(Error::TimeNotIncreasing { .. })
+        ));
+        assert!(matches!(
+            h.push([f64::NAN; 5], 0.04, 1.0),
+            Err(Error::NonFinite { name: "pose", .. })
+        ));
+        assert!(matches!(
+            h.push(pose(1.0, 0.0), f64::NAN, 1.0),
+            Err(Error::NonFinite { name: "t", .. })
+        ));
+        assert!(matches!(
+            h.push(pose(1.0, 0.0), 0.04, -0.5),
+            Err(Error::InvalidArgument { name: "weight", .. })
+        ));
         assert_eq!(h.len(), 1);
     }
 }

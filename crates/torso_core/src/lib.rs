@@ -26,6 +26,11 @@
 //! assert!((out[1][3] - 1.48).abs() < 1e-3);
 //! ```
 
+// `!(x > y)` is how this crate rejects NaN along with out-of-range values: keep it.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+// Index loops mirror the subscripts of the equations they implement.
+#![allow(clippy::needless_range_loop)]
+
 pub mod banded;
 pub mod bspline;
 pub mod butterworth;

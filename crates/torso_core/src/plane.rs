@@ -156,7 +156,8 @@ pub struct ShoulderHeading {
 
 /// Azimuth from the shoulder line and gravity.
 pub fn shoulder_heading(left: [f64; 3], right: [f64; 3]) -> Result<ShoulderHeading> {
-    let valid = left.iter().all(|v| v.is_finite()) as usize + right.iter().all(|v| v.is_finite()) as usize;
+    let valid =
+        left.iter().all(|v| v.is_finite()) as usize + right.iter().all(|v| v.is_finite()) as usize;
     if valid < 2 {
         return Err(Error::TooFewJoints { valid, needed: 2 });
     }
@@ -177,16 +178,19 @@ mod tests {
     /// forward by `lean` radians.
     pub(crate) fn torso(origin: [f64; 3], yaw: f64, lean: f64) -> ([[f64; 3]; 5], [Side; 5]) {
         let local = [
-            [0.0, 0.18, 0.5],   // left shoulder
-            [0.0, -0.18, 0.5],  // right shoulder
-            [0.0, 0.12, 0.0],   // left hip
-            [0.0, -0.12, 0.0],  // right hip
-            [0.02, 0.0, 0.45],  // thorax, a little in front of the plane
+            [0.0, 0.18, 0.5],  // left shoulder
+            [0.0, -0.18, 0.5], // right shoulder
+            [0.0, 0.12, 0.0],  // left hip
+            [0.0, -0.12, 0.0], // right hip
+            [0.02, 0.0, 0.45], // thorax, a little in front of the plane
         ];
         let mut out = [[0.0; 3]; 5];
         for (o, p) in out.iter_mut().zip(local) {
             // Lean about the local y axis (forward tilt), then yaw about z.
-            let (x, z) = (p[0] * lean.cos() + p[2] * lean.sin(), -p[0] * lean.sin() + p[2] * lean.cos());
+            let (x, z) = (
+                p[0] * lean.cos() + p[2] * lean.sin(),
+                -p[0] * lean.sin() + p[2] * lean.cos(),
+            );
             let y = p[1];
             *o = [
                 origin[0] + x * yaw.cos() - y * yaw.sin(),
@@ -194,7 +198,16 @@ mod tests {
                 origin[2] + z,
             ];
         }
-        (out, [Side::Left, Side::Right, Side::Left, Side::Right, Side::Centre])
+        (
+            out,
+            [
+                Side::Left,
+                Side::Right,
+                Side::Left,
+                Side::Right,
+                Side::Centre,
+            ],
+        )
     }
 
     #[test]
@@ -213,7 +226,11 @@ mod tests {
             for &lean in &[0.0, 0.3, -0.2] {
                 let (p, s) = torso([0.0, 0.0, 1.0], yaw, lean);
                 let plane = fit_torso_plane(&p[..4], &s[..4], None).unwrap();
-                assert!((plane.azimuth - yaw).abs() < 1e-9, "yaw {yaw}: {}", plane.azimuth);
+                assert!(
+                    (plane.azimuth - yaw).abs() < 1e-9,
+                    "yaw {yaw}: {}",
+                    plane.azimuth
+                );
                 // Leaning forward tips the chest normal down: elevation grows by the lean.
                 assert!((plane.elevation - (FRAC_PI_2 + lean)).abs() < 1e-9);
             }
@@ -236,7 +253,10 @@ mod tests {
         let (p, s) = torso([0.0, 0.0, 1.0], 0.0, 0.0);
         assert_eq!(
             fit_torso_plane(&p[..2], &s[..2], None),
-            Err(Error::TooFewJoints { valid: 2, needed: 3 })
+            Err(Error::TooFewJoints {
+                valid: 2,
+                needed: 3
+            })
         );
         let line = [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 2.0, 1e-9]];
         assert!(matches!(
@@ -253,12 +273,24 @@ mod tests {
         ));
         assert!(matches!(
             fit_torso_plane(&p, &s, Some(&[1.0, 1.0, f64::NAN, 1.0, 1.0])),
-            Err(Error::InvalidArgument { name: "weights", .. })
+            Err(Error::InvalidArgument {
+                name: "weights",
+                ..
+            })
         ));
         // Lying flat on the back: the chest faces up, left-right axis horizontal, normal vertical.
-        let flat = [[0.0, 0.2, 0.3], [0.0, -0.2, 0.3], [0.5, 0.2, 0.3], [0.5, -0.2, 0.3]];
+        let flat = [
+            [0.0, 0.2, 0.3],
+            [0.0, -0.2, 0.3],
+            [0.5, 0.2, 0.3],
+            [0.5, -0.2, 0.3],
+        ];
         assert_eq!(
-            fit_torso_plane(&flat, &[Side::Left, Side::Right, Side::Left, Side::Right], None),
+            fit_torso_plane(
+                &flat,
+                &[Side::Left, Side::Right, Side::Left, Side::Right],
+                None
+            ),
             Err(Error::AmbiguousOrientation)
         );
     }

@@ -37,7 +37,7 @@ impl SmoothingSpline {
         if degree > MAX_DEGREE {
             return Err(Error::InvalidArgument {
                 name: "degree",
-                expected: "a spline degree from 0 to 5",
+                expected: "a spline degree from 0 to 4",
                 value: degree as f64,
             });
         }
@@ -248,7 +248,10 @@ mod tests {
     fn huge_lambda_tends_to_the_weighted_least_squares_line() {
         // As λ → ∞ the cubic smoothing spline tends to the straight-line least-squares fit.
         let x: Vec<f64> = (0..12).map(|i| i as f64 * 0.5).collect();
-        let y: Vec<f64> = x.iter().map(|t| 0.3 * t - 1.0 + (3.0 * t).sin() * 0.2).collect();
+        let y: Vec<f64> = x
+            .iter()
+            .map(|t| 0.3 * t - 1.0 + (3.0 * t).sin() * 0.2)
+            .collect();
         let (knots, c) = fit_smoothing_spline(&x, &y, None, 1e9, 3).unwrap();
         let n = x.len() as f64;
         let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
@@ -296,7 +299,10 @@ mod tests {
         ));
         assert!(matches!(
             fit_smoothing_spline(&x, &[1.0, 2.0, 3.0], Some(&[1.0, -1.0, 1.0]), 1.0, 3),
-            Err(Error::InvalidArgument { name: "weights", .. })
+            Err(Error::InvalidArgument {
+                name: "weights",
+                ..
+            })
         ));
         assert!(matches!(
             fit_smoothing_spline(&x, &[1.0, 2.0, 3.0], Some(&[0.0, 0.0, 0.0]), 1.0, 3),
@@ -304,7 +310,10 @@ mod tests {
         ));
         assert!(matches!(
             fit_smoothing_spline(&x, &[1.0, f64::NAN, 3.0], None, 1.0, 3),
-            Err(Error::NonFinite { name: "y", index: 1 })
+            Err(Error::NonFinite {
+                name: "y",
+                index: 1
+            })
         ));
     }
 }

@@ -1,0 +1,171 @@
+//! Proves the "no heap allocation per frame" guarantee: a counting global allocator around
+//! `update` + `forecast` of every forecaster kind, and around the other per-frame objects.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use torso_core::*;
+
+struct Counting;
+
+thread_local! {
+    // Per thread, so the test harness's own threads do not count. `const` init: no lazy
+    // allocation inside the allocator.
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.with(|c| c.set(c.get() + 1));
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        ALLOCATIONS.with(|c| c.set(c.get() + 1));
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn allocations_during(f: impl FnOnce()) -> usize {
+    let before = ALLOCATIONS.with(Cell::get);
+    f();
+    ALLOCATIONS.with(Cell::get) - before
+}
+
+fn every_forecaster_kind() -> Vec<(String, ForecasterConfig)> {
+    let mut kinds = vec![
+        ("const".to_string(), ForecasterConfig::constant()),
+        (
+            "cvel 2 s".to_string(),
+            ForecasterConfig::constant_velocity(None),
+        ),
+        (
+            "cvel 0.4 s".to_string(),
+            ForecasterConfig::constant_velocity(Some(0.4)),
+        ),
+    ];
+    for filter in [FilterMode::Off, FilterMode::Causal, FilterMode::ZeroPhase] {
+        for degree in 0..=bspline::MAX_DEGREE {
+            for fast_path in [true, false] {
+                for extrapolation in [Extrapolation::Polynomial, Extrapolation::Linear] {
+                    let spline = FilterSplineConfig {
+                        filter,
+                        degree,
+                        extrapolation,
+                        lambda_unit: if degree % 2 == 0 {
+                            LambdaUnit::Seconds
+                        } else {
+                            LambdaUnit::Samples
+                        },
+                        ..FilterSplineConfig::default()
+                    };
+                    kinds.push((
+                        format!("{filter:?} N={degree} fast={fast_path} {extrapolation:?}"),
+                        ForecasterConfig {
+                            method: Method::FilterSpline(spline),
+                            fast_path,
+                            ..ForecasterConfig::default()
+                        },
+                    ));
+                }
+            }
+        }
+    }
+    kinds
+}
+
+#[test]
+fn update_and_forecast_never_allocate() {
+    let horizons = [0.04, 0.4, 1.0, 2.0];
+    let mut out = [[0.0; 5]; 4];
+    for (name, config) in every_forecaster_kind() {
+        let mut f = Forecaster::new(config).unwrap();
+        let count = allocations_during(|| {
+            // Warm-up (growing history), a full history with uniform weights (fast path), varying
+            // weights (general path), a filled gap, a restart, rejected input and a reset.
+            for k in 0..140 {
+                let t = k as f64 * 0.04
+                    + if k > 90 { 0.08 } else { 0.0 }
+                    + if k > 120 { 1.0 } else { 0.0 };
+                let weight = if (60..80).contains(&k) {
+                    0.5 + 0.01 * k as f64
+                } else {
+                    1.0
+                };
+                let pose = [
+                    0.01 * k as f64,
+                    0.2,
+                    1.0,
+                    (0.05 * k as f64).sin() * 3.5,
+                    1.5,
+                ];
+                f.update(pose, t, weight).unwrap();
+                if f.len() >= f.min_samples() {
+                    f.forecast(&horizons, &mut out).unwrap();
+                    assert!(out.iter().flatten().all(|v| v.is_finite()));
+                } else {
+                    assert!(matches!(
+                        f.forecast(&horizons, &mut out),
+                        Err(Error::NotEnoughHistory { .. })
+                    ));
+                }
+            }
+            assert!(f.update([f64::NAN; 5], 100.0, 1.0).is_err());
+            assert!(f.forecast(&[-1.0], &mut out[..1]).is_err());
+            f.reset();
+            assert!(f.forecast(&horizons, &mut out).is_err());
+        });
+        assert_eq!(count, 0, "{name}: {count} allocations per run");
+    }
+}
+
+#[test]
+fn per_frame_helpers_never_allocate() {
+    let mut gate = JointGate::new(6, GateConfig::default()).unwrap();
+    let mut status = [JointStatus::Lost; 6];
+    let mut low_pass = LowPass::new(design_lowpass(4, 5.0, 25.0).unwrap());
+    let mut zero_phase = ZeroPhase::new(design_lowpass(2, 5.0, 25.0).unwrap(), 50);
+    let mut spline = SmoothingSpline::new(3, 50).unwrap();
+    let x: Vec<f64> = (0..50).map(|i| i as f64 * 0.04).collect();
+    let y: Vec<f64> = x.iter().map(|t| t.sin()).collect();
+    let w = vec![1.0; 50];
+    let mut filtered = vec![0.0; 50];
+    let mut coeffs = vec![0.0; 52];
+    let sides = [
+        Side::Left,
+        Side::Right,
+        Side::Left,
+        Side::Right,
+        Side::Centre,
+        Side::Centre,
+    ];
+    let count = allocations_during(|| {
+        for k in 0..50 {
+            let s = k as f64 * 0.01;
+            let mut joints = [
+                [s, 0.18, 1.4],
+                [s, -0.18, 1.4],
+                [s, 0.12, 0.9],
+                [s, -0.12, 0.9],
+                [s + 0.02, 0.0, 1.35],
+                if k % 7 == 0 {
+                    [f64::NAN; 3]
+                } else {
+                    [s, 0.0, 1.0]
+                },
+            ];
+            gate.update(&mut joints, &mut status).unwrap();
+            let plane = fit_torso_plane(&joints, &sides, None).unwrap();
+            shoulder_heading(joints[0], joints[1]).unwrap();
+            low_pass.step(plane.azimuth).unwrap();
+        }
+        zero_phase.apply(&y, &mut filtered).unwrap();
+        spline.set_abscissae(&x).unwrap();
+        spline.fit(&w, 0.1, &filtered, &mut coeffs).unwrap();
+    });
+    assert_eq!(count, 0);
+}
