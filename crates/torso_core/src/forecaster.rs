@@ -141,6 +141,15 @@ impl ForecasterConfig {
     pub fn capacity(&self) -> usize {
         (self.history * self.rate_hz).round() as usize
     }
+
+    /// Checks every field, as [`Forecaster::new`] would, without precomputing the fast path.
+    pub fn validate(&self) -> Result<()> {
+        Forecaster::new(Self {
+            fast_path: false,
+            ..*self
+        })
+        .map(|_| ())
+    }
 }
 
 /// Floor of the relative sample weights in the spline fit (see `SplineEngine::derivatives`).

@@ -49,7 +49,9 @@ pub use forecaster::{
 };
 pub use gating::{GateConfig, JointGate, JointStatus};
 pub use history::UpdateReport;
-pub use plane::{fit_torso_plane, shoulder_heading, ShoulderHeading, Side, TorsoPlane};
+pub use plane::{
+    fit_torso_plane, fit_torso_planes, shoulder_heading, ShoulderHeading, Side, TorsoPlane,
+};
 pub use smoothing::{fit_smoothing_spline, SmoothingSpline};
 
 /// A torso pose as the forecaster sees it: `[x, y, z, azimuth, elevation]` (m, m, m, rad, rad).

@@ -17,6 +17,22 @@ pub enum Side {
     Centre,
 }
 
+impl Side {
+    /// Parses `L`, `R` or `C` (any case), the one-letter codes the Python API uses.
+    pub fn from_code(code: char) -> Result<Self> {
+        match code.to_ascii_uppercase() {
+            'L' => Ok(Side::Left),
+            'R' => Ok(Side::Right),
+            'C' => Ok(Side::Centre),
+            other => Err(Error::InvalidArgument {
+                name: "sides",
+                expected: "one letter per joint: L (left), R (right) or C (centre)",
+                value: other as u32 as f64,
+            }),
+        }
+    }
+}
+
 /// Ratio `λ_mid / λ_max` of the scatter eigenvalues under which the joints count as collinear.
 /// A torso is about 0.35 m wide and 0.5 m tall (ratio near 0.5); 1e-4 means the spread across
 /// the line is under 1 % of the spread along it, where the normal is noise.
@@ -126,6 +142,33 @@ pub fn fit_torso_plane(
         rms_residual: (smallest.max(0.0) / sum_w).sqrt(),
         joints_used: used,
     })
+}
+
+/// Fits one plane per frame: `points` holds consecutive frames of `sides.len()` joints, and
+/// `weights` (if any) one weight per point. Each frame succeeds or fails on its own.
+pub fn fit_torso_planes<'a>(
+    points: &'a [[f64; 3]],
+    sides: &'a [Side],
+    weights: Option<&'a [f64]>,
+) -> Result<impl Iterator<Item = Result<TorsoPlane>> + 'a> {
+    let joints = sides.len();
+    if joints == 0 || points.len() % joints != 0 {
+        return Err(Error::LengthMismatch {
+            name: "joints",
+            expected: joints * (points.len() / joints.max(1)),
+            got: points.len(),
+        });
+    }
+    if let Some(w) = weights {
+        check_len("weights", w.len(), points.len())?;
+    }
+    Ok(points
+        .chunks_exact(joints)
+        .enumerate()
+        .map(move |(i, frame)| {
+            let w = weights.map(|w| &w[i * joints..(i + 1) * joints]);
+            fit_torso_plane(frame, sides, w)
+        }))
 }
 
 /// Unit forward direction `(left - right) × ẑ` of a body whose left-right axis is `lr`. Refused

@@ -1,1 +1,33 @@
+//! `torsocast._core`: PyO3 bindings of `torso_core`. Only argument conversion, shape checks and
+//! error mapping live here; every computation is in the core crate.
 
+mod arrays;
+mod errors;
+mod filter;
+mod forecaster;
+mod gating;
+mod plane;
+mod spline;
+
+use pyo3::prelude::*;
+
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    errors::register(m)?;
+    m.add_class::<plane::TorsoPlane>()?;
+    m.add_function(wrap_pyfunction!(plane::fit_plane, m)?)?;
+    m.add_function(wrap_pyfunction!(plane::fit_planes, m)?)?;
+    m.add_function(wrap_pyfunction!(plane::shoulder_heading, m)?)?;
+    m.add_class::<gating::JointGate>()?;
+    m.add_function(wrap_pyfunction!(filter::butter_lowpass, m)?)?;
+    m.add_function(wrap_pyfunction!(filter::lowpass_causal, m)?)?;
+    m.add_function(wrap_pyfunction!(filter::lowpass_zero_phase, m)?)?;
+    m.add_class::<filter::LowPass>()?;
+    m.add_function(wrap_pyfunction!(spline::fit_smoothing_spline, m)?)?;
+    m.add_class::<forecaster::ForecasterConfig>()?;
+    m.add_class::<forecaster::Forecaster>()?;
+    m.add_function(wrap_pyfunction!(forecaster::forecast_batch, m)?)?;
+    m.add("MAX_DEGREE", torso_core::bspline::MAX_DEGREE)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

@@ -1,0 +1,60 @@
+//! NumPy in, NumPy out: shape checks and conversions shared by the bindings. Inputs arrive as
+//! `PyArrayLike` with type change allowed, so float32 arrays and plain lists work too; outputs
+//! are always float64.
+
+use crate::errors::shape_error;
+use numpy::ndarray::{ArrayView, Dimension};
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use pyo3::prelude::*;
+
+/// The array's elements in C order, borrowed when contiguous, copied otherwise.
+pub fn contiguous<D: Dimension>(view: ArrayView<'_, f64, D>) -> Vec<f64> {
+    match view.as_slice() {
+        Some(s) => s.to_vec(),
+        None => view.iter().copied().collect(),
+    }
+}
+
+/// Rows of three (points) from an `(n, 3)`-shaped flat buffer.
+pub fn points(flat: &[f64]) -> Vec<[f64; 3]> {
+    flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
+}
+
+/// Rows of five (poses) from an `(n, 5)`-shaped flat buffer.
+pub fn poses(flat: &[f64]) -> Vec<[f64; 5]> {
+    flat.chunks_exact(5)
+        .map(|c| [c[0], c[1], c[2], c[3], c[4]])
+        .collect()
+}
+
+/// Checks the trailing dimension of an array shape.
+pub fn expect_last(name: &str, shape: &[usize], last: usize, expected: &str) -> PyResult<()> {
+    if shape.last() == Some(&last) {
+        Ok(())
+    } else {
+        Err(shape_error(name, expected, shape))
+    }
+}
+
+/// A float64 `(rows, cols)` array from row arrays.
+pub fn matrix<'py, const C: usize>(
+    py: Python<'py>,
+    rows: &[[f64; C]],
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let array = PyArray2::<f64>::zeros(py, [rows.len(), C], false);
+    {
+        let mut rw = array.readwrite();
+        let out = rw
+            .as_slice_mut()
+            .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
+        for (dst, src) in out.chunks_exact_mut(C).zip(rows) {
+            dst.copy_from_slice(src);
+        }
+    }
+    Ok(array)
+}
+
+/// A float64 vector.
+pub fn vector<'py>(py: Python<'py>, values: &[f64]) -> Bound<'py, PyArray1<f64>> {
+    PyArray1::from_slice(py, values)
+}

@@ -1,0 +1,334 @@
+//! Forecaster, its configuration and the batch call.
+
+use crate::arrays::{contiguous, matrix, poses};
+use crate::errors::{shape_error, to_py, unknown_option};
+use numpy::{
+    AllowTypeChange, PyArray1, PyArray2, PyArray3, PyArrayLike3, PyArrayMethods,
+    PyUntypedArrayMethods,
+};
+use pyo3::prelude::*;
+use torso_core::{Extrapolation, FilterMode, FilterSplineConfig, LambdaUnit, Method, Pose};
+
+/// ForecasterConfig(method="filter_spline", *, ...): every forecasting choice, validated.
+#[pyclass(module = "torsocast._core", frozen)]
+#[derive(Clone)]
+pub struct ForecasterConfig {
+    pub inner: torso_core::ForecasterConfig,
+    /// Kept for every method so that the getters answer whatever `method` is.
+    spline: FilterSplineConfig,
+    velocity_window: Option<f64>,
+}
+
+fn parse<T: Copy>(name: &str, got: &str, options: &[(&str, T)]) -> PyResult<T> {
+    options
+        .iter()
+        .find(|(key, _)| *key == got)
+        .map(|(_, v)| *v)
+        .ok_or_else(|| {
+            let keys: Vec<&str> = options.iter().map(|(k, _)| *k).collect();
+            unknown_option(name, got, &keys.join(", "))
+        })
+}
+
+const FILTERS: [(&str, FilterMode); 3] = [
+    ("off", FilterMode::Off),
+    ("causal", FilterMode::Causal),
+    ("zero_phase", FilterMode::ZeroPhase),
+];
+const UNITS: [(&str, LambdaUnit); 2] = [
+    ("samples", LambdaUnit::Samples),
+    ("seconds", LambdaUnit::Seconds),
+];
+const RULES: [(&str, Extrapolation); 2] = [
+    ("polynomial", Extrapolation::Polynomial),
+    ("linear", Extrapolation::Linear),
+];
+
+fn name_of<T: PartialEq>(value: T, options: &[(&'static str, T)]) -> &'static str {
+    options
+        .iter()
+        .find(|(_, v)| *v == value)
+        .map_or("?", |(k, _)| k)
+}
+
+#[pymethods]
+impl ForecasterConfig {
+    #[new]
+    #[pyo3(signature = (
+        method="filter_spline", *, rate_hz=25.0, history=2.0, max_gap=0.4, fast_path=true,
+        velocity_window=None, filter="zero_phase", filter_order=2, cutoff_hz=5.0,
+        filter_components=[false, false, false, true, true], degree=1, lam=1.0,
+        lambda_unit="samples", extrapolation="polynomial"
+    ))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        method: &str,
+        rate_hz: f64,
+        history: f64,
+        max_gap: f64,
+        fast_path: bool,
+        velocity_window: Option<f64>,
+        filter: &str,
+        filter_order: usize,
+        cutoff_hz: f64,
+        filter_components: [bool; 5],
+        degree: usize,
+        lam: f64,
+        lambda_unit: &str,
+        extrapolation: &str,
+    ) -> PyResult<Self> {
+        let spline = FilterSplineConfig {
+            filter: parse("filter", filter, &FILTERS)?,
+            filter_order,
+            cutoff_hz,
+            filter_components,
+            degree,
+            lam,
+            lambda_unit: parse("lambda_unit", lambda_unit, &UNITS)?,
+            extrapolation: parse("extrapolation", extrapolation, &RULES)?,
+        };
+        let method = match method {
+            "filter_spline" => Method::FilterSpline(spline),
+            "const" => Method::Const,
+            "constant_velocity" => Method::ConstantVelocity {
+                window: velocity_window,
+            },
+            other => {
+                return Err(unknown_option(
+                    "method",
+                    other,
+                    "filter_spline, const, constant_velocity",
+                ))
+            }
+        };
+        let inner = torso_core::ForecasterConfig {
+            rate_hz,
+            history,
+            max_gap,
+            method,
+            fast_path,
+        };
+        inner.validate().map_err(to_py)?;
+        Ok(Self {
+            inner,
+            spline,
+            velocity_window,
+        })
+    }
+
+    #[getter]
+    fn method(&self) -> &'static str {
+        match self.inner.method {
+            Method::Const => "const",
+            Method::ConstantVelocity { .. } => "constant_velocity",
+            Method::FilterSpline(_) => "filter_spline",
+        }
+    }
+    #[getter]
+    fn rate_hz(&self) -> f64 {
+        self.inner.rate_hz
+    }
+    #[getter]
+    fn history(&self) -> f64 {
+        self.inner.history
+    }
+    #[getter]
+    fn max_gap(&self) -> f64 {
+        self.inner.max_gap
+    }
+    #[getter]
+    fn fast_path(&self) -> bool {
+        self.inner.fast_path
+    }
+    #[getter]
+    fn velocity_window(&self) -> Option<f64> {
+        self.velocity_window
+    }
+    #[getter]
+    fn filter(&self) -> &'static str {
+        name_of(self.spline.filter, &FILTERS)
+    }
+    #[getter]
+    fn filter_order(&self) -> usize {
+        self.spline.filter_order
+    }
+    #[getter]
+    fn cutoff_hz(&self) -> f64 {
+        self.spline.cutoff_hz
+    }
+    #[getter]
+    fn filter_components(&self) -> [bool; 5] {
+        self.spline.filter_components
+    }
+    #[getter]
+    fn degree(&self) -> usize {
+        self.spline.degree
+    }
+    #[getter]
+    fn lam(&self) -> f64 {
+        self.spline.lam
+    }
+    #[getter]
+    fn lambda_unit(&self) -> &'static str {
+        name_of(self.spline.lambda_unit, &UNITS)
+    }
+    #[getter]
+    fn extrapolation(&self) -> &'static str {
+        name_of(self.spline.extrapolation, &RULES)
+    }
+    /// Samples in a full history.
+    #[getter]
+    fn capacity(&self) -> usize {
+        self.inner.capacity()
+    }
+
+    fn __repr__(&self) -> String {
+        let grid = format!(
+            "rate_hz={}, history={}, max_gap={}, fast_path={}",
+            self.inner.rate_hz,
+            self.inner.history,
+            self.inner.max_gap,
+            if self.inner.fast_path {
+                "True"
+            } else {
+                "False"
+            }
+        );
+        match self.inner.method {
+            Method::Const => format!("ForecasterConfig('const', {grid})"),
+            Method::ConstantVelocity { window } => format!(
+                "ForecasterConfig('constant_velocity', {grid}, velocity_window={})",
+                window.map_or("None".to_string(), |w| w.to_string())
+            ),
+            Method::FilterSpline(s) => format!(
+                "ForecasterConfig('filter_spline', {grid}, filter='{}', filter_order={}, cutoff_hz={}, degree={}, lam={}, lambda_unit='{}', extrapolation='{}')",
+                name_of(s.filter, &FILTERS),
+                s.filter_order,
+                s.cutoff_hz,
+                s.degree,
+                s.lam,
+                name_of(s.lambda_unit, &UNITS),
+                name_of(s.extrapolation, &RULES)
+            ),
+        }
+    }
+}
+
+fn config_or_default(config: Option<PyRef<'_, ForecasterConfig>>) -> torso_core::ForecasterConfig {
+    config.map_or_else(torso_core::ForecasterConfig::default, |c| c.inner)
+}
+
+/// Forecaster(config=None): one tracked person's torso pose forecaster.
+#[pyclass(module = "torsocast._core")]
+pub struct Forecaster {
+    inner: torso_core::Forecaster,
+    scratch: Vec<Pose>,
+}
+
+#[pymethods]
+impl Forecaster {
+    #[new]
+    #[pyo3(signature = (config=None))]
+    fn new(config: Option<PyRef<'_, ForecasterConfig>>) -> PyResult<Self> {
+        Ok(Self {
+            inner: torso_core::Forecaster::new(config_or_default(config)).map_err(to_py)?,
+            scratch: Vec::new(),
+        })
+    }
+
+    /// update(pose, t, weight=1.0) -> (filled, restarted)
+    #[pyo3(signature = (pose, t, weight=1.0))]
+    fn update(&mut self, pose: [f64; 5], t: f64, weight: f64) -> PyResult<(usize, bool)> {
+        let r = self.inner.update(pose, t, weight).map_err(to_py)?;
+        Ok((r.filled, r.restarted))
+    }
+
+    /// forecast(horizons) -> array (len(horizons), 5)
+    fn forecast<'py>(
+        &mut self,
+        py: Python<'py>,
+        horizons: Vec<f64>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.scratch.resize(horizons.len(), [0.0; 5]);
+        self.inner
+            .forecast(&horizons, &mut self.scratch)
+            .map_err(to_py)?;
+        matrix(py, &self.scratch)
+    }
+
+    fn reset(&mut self) {
+        self.inner.reset();
+    }
+
+    fn __len__(&self) -> usize {
+        self.inner.len()
+    }
+
+    #[getter]
+    fn capacity(&self) -> usize {
+        self.inner.capacity()
+    }
+
+    #[getter]
+    fn min_samples(&self) -> usize {
+        self.inner.min_samples()
+    }
+
+    #[getter]
+    fn last_time(&self) -> Option<f64> {
+        self.inner.last_time()
+    }
+
+    #[getter]
+    fn config(&self) -> ForecasterConfig {
+        let inner = *self.inner.config();
+        let (spline, velocity_window) = match inner.method {
+            Method::FilterSpline(s) => (s, None),
+            Method::ConstantVelocity { window } => (FilterSplineConfig::default(), window),
+            Method::Const => (FilterSplineConfig::default(), None),
+        };
+        ForecasterConfig {
+            inner,
+            spline,
+            velocity_window,
+        }
+    }
+
+    /// history() -> (poses (n, 5) with azimuth unwrapped, weights (n,))
+    fn history<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>)> {
+        let (p, w): (Vec<Pose>, Vec<f64>) = (0..self.inner.len())
+            .filter_map(|i| self.inner.sample(i))
+            .unzip();
+        Ok((matrix(py, &p)?, PyArray1::from_vec(py, w)))
+    }
+}
+
+/// forecast_batch(histories, horizons, config=None) -> array (n, len(horizons), 5)
+#[pyfunction]
+#[pyo3(signature = (histories, horizons, config=None))]
+pub fn forecast_batch<'py>(
+    py: Python<'py>,
+    histories: PyArrayLike3<'py, f64, AllowTypeChange>,
+    horizons: Vec<f64>,
+    config: Option<PyRef<'py, ForecasterConfig>>,
+) -> PyResult<Bound<'py, PyArray3<f64>>> {
+    let shape = histories.shape().to_vec();
+    if shape[2] != 5 || shape[1] == 0 {
+        return Err(shape_error("histories", "(n, T, 5) with T >= 1", &shape));
+    }
+    let windows = poses(&contiguous(histories.as_array()));
+    let config = config_or_default(config);
+    let h = horizons.len();
+    let out = py
+        .detach(|| -> Result<Vec<Pose>, torso_core::Error> {
+            let mut out = vec![[0.0; 5]; shape[0] * h];
+            torso_core::forecast_batch(&config, &windows, shape[1], &horizons, &mut out)?;
+            Ok(out)
+        })
+        .map_err(to_py)?;
+    let flat: Vec<f64> = out.into_iter().flatten().collect();
+    PyArray1::from_vec(py, flat).reshape([shape[0], h, 5])
+}

@@ -1,0 +1,24 @@
+//! Penalised B-spline smoothing.
+
+use crate::arrays::{contiguous, vector};
+use crate::errors::to_py;
+use numpy::{AllowTypeChange, PyArray1, PyArrayLike1};
+use pyo3::prelude::*;
+
+/// fit_smoothing_spline(x, y, w=None, lam=1.0, degree=3) -> (knots, coefficients)
+#[pyfunction]
+#[pyo3(signature = (x, y, w=None, lam=1.0, degree=3))]
+pub fn fit_smoothing_spline<'py>(
+    py: Python<'py>,
+    x: PyArrayLike1<'py, f64, AllowTypeChange>,
+    y: PyArrayLike1<'py, f64, AllowTypeChange>,
+    w: Option<PyArrayLike1<'py, f64, AllowTypeChange>>,
+    lam: f64,
+    degree: usize,
+) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+    let (x, y) = (contiguous(x.as_array()), contiguous(y.as_array()));
+    let w = w.map(|w| contiguous(w.as_array()));
+    let (knots, coeffs) =
+        torso_core::fit_smoothing_spline(&x, &y, w.as_deref(), lam, degree).map_err(to_py)?;
+    Ok((vector(py, &knots), vector(py, &coeffs)))
+}
