@@ -1,0 +1,32 @@
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+# The independent SciPy reference lives beside the tests, not in the package.
+sys.path.insert(0, str(Path(__file__).parent))
+
+
+@pytest.fixture
+def rng():
+    return np.random.default_rng(20261122)
+
+
+def walking_history(n=50, rate=25.0, seed=0):
+    """A (n, 5) pose history: a person walking and turning, with sensor-like noise; azimuth
+    wrapped into (-pi, pi] as a detector would report it."""
+    r = np.random.default_rng(seed)
+    t = np.arange(n) / rate
+    az = 2.6 + 1.2 * t + 0.15 * np.sin(2 * np.pi * 1.8 * t) + 0.02 * r.normal(size=n)
+    hist = np.stack(
+        [
+            0.9 * t + 0.01 * r.normal(size=n),
+            0.3 * np.sin(t) + 0.01 * r.normal(size=n),
+            1.1 + 0.02 * np.sin(2 * np.pi * 1.8 * t),
+            np.angle(np.exp(1j * az)),
+            np.pi / 2 + 0.05 * np.sin(2 * np.pi * 0.9 * t) + 0.01 * r.normal(size=n),
+        ],
+        axis=1,
+    )
+    return t, hist
