@@ -1,1 +1,158 @@
-fn main() {}
+//! Latency of the per-frame work of torso_core: `cargo bench` (figures in benches/README.md).
+
+use divan::{black_box, Bencher};
+use torso_core::*;
+
+fn main() {
+    divan::main();
+}
+
+const KINDS: &[&str] = &[
+    "const",
+    "cvel_2s",
+    "cvel_0.4s",
+    "default_fast",
+    "default_general",
+    "causal_n1_fast",
+    "zero_phase_n2",
+    "zero_phase_n3",
+    "zero_phase_n3_general",
+];
+
+fn config(kind: &str) -> ForecasterConfig {
+    let spline = |filter, degree, fast_path| ForecasterConfig {
+        method: Method::FilterSpline(FilterSplineConfig {
+            filter,
+            degree,
+            lam: 1.0,
+            ..FilterSplineConfig::default()
+        }),
+        fast_path,
+        ..ForecasterConfig::default()
+    };
+    match kind {
+        "const" => ForecasterConfig::constant(),
+        "cvel_2s" => ForecasterConfig::constant_velocity(None),
+        "cvel_0.4s" => ForecasterConfig::constant_velocity(Some(0.4)),
+        "default_fast" => ForecasterConfig::default(),
+        "default_general" => spline(FilterMode::ZeroPhase, 1, false),
+        "causal_n1_fast" => spline(FilterMode::Causal, 1, true),
+        "zero_phase_n2" => spline(FilterMode::ZeroPhase, 2, true),
+        "zero_phase_n3" => spline(FilterMode::ZeroPhase, 3, true),
+        "zero_phase_n3_general" => spline(FilterMode::ZeroPhase, 3, false),
+        other => panic!("unknown kind {other}"),
+    }
+}
+
+fn pose(k: usize) -> Pose {
+    let t = k as f64 * 0.04;
+    [
+        0.9 * t,
+        0.3 * t.sin(),
+        1.1,
+        2.6 + 1.2 * t + 0.15 * (11.3 * t).sin(),
+        1.57,
+    ]
+}
+
+fn full(kind: &str) -> Forecaster {
+    let mut f = Forecaster::new(config(kind)).unwrap();
+    for k in 0..50 {
+        f.update(pose(k), k as f64 * 0.04, 1.0).unwrap();
+    }
+    f
+}
+
+/// One forecast of all five components at a horizon of STEPS grid steps (40 ms each).
+#[divan::bench(args = KINDS, consts = [10, 25, 50])]
+fn forecast<const STEPS: usize>(bencher: Bencher, kind: &str) {
+    let mut f = full(kind);
+    let horizon = [STEPS as f64 * 0.04];
+    let mut out = [[0.0; 5]];
+    bencher.bench_local(|| f.forecast(black_box(&horizon), &mut out).unwrap());
+}
+
+/// A frame's work for one track: add the new pose, forecast at 0.4, 1 and 2 s.
+#[divan::bench(args = KINDS)]
+fn update_and_forecast(bencher: Bencher, kind: &str) {
+    let mut f = full(kind);
+    let mut k = 50;
+    let mut out = [[0.0; 5]; 3];
+    bencher.bench_local(|| {
+        f.update(pose(k), k as f64 * 0.04, 1.0).unwrap();
+        k += 1;
+        f.forecast(black_box(&[0.4, 1.0, 2.0]), &mut out).unwrap();
+    });
+}
+
+/// A frame with 100 tracked people, default forecaster.
+#[divan::bench]
+fn hundred_tracks_per_frame(bencher: Bencher) {
+    let mut tracks: Vec<Forecaster> = (0..100).map(|_| full("default_fast")).collect();
+    let mut k = 50;
+    let mut out = [[0.0; 5]; 2];
+    bencher.bench_local(|| {
+        for f in tracks.iter_mut() {
+            f.update(pose(k), k as f64 * 0.04, 1.0).unwrap();
+            f.forecast(black_box(&[0.4, 1.0]), &mut out).unwrap();
+        }
+        k += 1;
+    });
+}
+
+fn torso_joints() -> ([[f64; 3]; 6], [Side; 6]) {
+    (
+        [
+            [2.0, 0.18, 1.40],
+            [2.01, -0.18, 1.41],
+            [2.0, 0.12, 0.92],
+            [2.02, -0.12, 0.91],
+            [2.03, 0.0, 1.35],
+            [2.01, 0.0, 1.10],
+        ],
+        [
+            Side::Left,
+            Side::Right,
+            Side::Left,
+            Side::Right,
+            Side::Centre,
+            Side::Centre,
+        ],
+    )
+}
+
+/// Least-squares torso plane through six joints (shoulders, hips, thorax, spine).
+#[divan::bench]
+fn plane_fit(bencher: Bencher) {
+    let (joints, sides) = torso_joints();
+    bencher.bench_local(|| fit_torso_plane(black_box(&joints), &sides, None).unwrap());
+}
+
+/// Gating the 17 COCO keypoints of one person.
+#[divan::bench]
+fn gating_17_joints(bencher: Bencher) {
+    let mut gate = JointGate::new(17, GateConfig::default()).unwrap();
+    let base: Vec<[f64; 3]> = (0..17)
+        .map(|j| [2.0, 0.02 * j as f64, 0.1 * j as f64])
+        .collect();
+    let mut joints = base.clone();
+    let mut status = [JointStatus::Lost; 17];
+    let mut k = 0u32;
+    bencher.bench_local(|| {
+        joints.copy_from_slice(&base);
+        joints[(k % 17) as usize][0] += 0.3; // one jumping joint per frame
+        k += 1;
+        gate.update(black_box(&mut joints), &mut status).unwrap();
+    });
+}
+
+/// One sample through a 2nd-order Butterworth (one biquad).
+#[divan::bench]
+fn filter_step(bencher: Bencher) {
+    let mut lp = LowPass::new(design_lowpass(2, 5.0, 25.0).unwrap());
+    let mut x = 0.0;
+    bencher.bench_local(|| {
+        x += 0.01;
+        lp.step(black_box(x)).unwrap()
+    });
+}

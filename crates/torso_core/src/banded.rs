@@ -47,20 +47,40 @@ pub fn factor(band: &mut [f64], n: usize, p: usize) -> Result<()> {
 
 /// Solves `L Lᵀ x = b` in place for one right-hand side, with `L` from [`factor`].
 pub fn solve(factor: &[f64], n: usize, p: usize, b: &mut [f64]) {
-    debug_assert!(b.len() >= n);
+    solve_many(factor, n, p, &mut b[..n], 1);
+}
+
+/// Solves `L Lᵀ X = B` in place for `k` right-hand sides stored one after another
+/// (`b[c * n + i]`): one sweep over the factor serves them all.
+pub fn solve_many(factor: &[f64], n: usize, p: usize, b: &mut [f64], k: usize) {
+    let w = p + 1;
+    let factor = &factor[..n * w];
+    let b = &mut b[..k * n];
+    // Forward: L z = b, row i of L is factor[i*w..] = [L_ii, L_i,i-1, ..., L_i,i-p].
     for i in 0..n {
-        let mut s = b[i];
-        for k in i.saturating_sub(p)..i {
-            s -= factor[at(i, k, p)] * b[k];
+        let row = &factor[i * w..(i + 1) * w];
+        let reach = p.min(i);
+        for c in 0..k {
+            let x = &mut b[c * n..(c + 1) * n];
+            let mut s = x[i];
+            for d in 1..=reach {
+                s -= row[d] * x[i - d];
+            }
+            x[i] = s / row[0];
         }
-        b[i] = s / factor[at(i, i, p)];
     }
+    // Backward: Lᵀ x = z, column i of L below the diagonal is factor[(i+d)*w + d].
     for i in (0..n).rev() {
-        let mut s = b[i];
-        for k in (i + 1)..n.min(i + p + 1) {
-            s -= factor[at(k, i, p)] * b[k];
+        let reach = p.min(n - 1 - i);
+        let diag = factor[i * w];
+        for c in 0..k {
+            let x = &mut b[c * n..(c + 1) * n];
+            let mut s = x[i];
+            for d in 1..=reach {
+                s -= factor[(i + d) * w + d] * x[i + d];
+            }
+            x[i] = s / diag;
         }
-        b[i] = s / factor[at(i, i, p)];
     }
 }
 

@@ -330,9 +330,12 @@ impl ZeroPhase {
         }
         ext[edge..edge + n].copy_from_slice(x);
         self.filter.filter_from_steady_state(ext, &mut self.state);
-        ext.reverse();
-        self.filter.filter_from_steady_state(ext, &mut self.state);
-        ext.reverse();
+        // The backward pass runs over the same buffer from its end: no reversal copies.
+        let last = ext[ext.len() - 1];
+        self.filter.start_at(last, &mut self.state);
+        for v in ext.iter_mut().rev() {
+            *v = self.filter.step(*v, &mut self.state);
+        }
         out.copy_from_slice(&ext[edge..edge + n]);
         Ok(())
     }

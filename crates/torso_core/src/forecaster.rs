@@ -520,47 +520,59 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
-/// Forecasts many history windows in one call, for evaluations. `windows` holds
-/// `windows.len() / window_len` consecutive windows of `window_len` poses on the config's grid
-/// (azimuth may be wrapped: it is unwrapped per window); `out` receives `horizons.len()` poses
-/// per window. The config's `history` is replaced by the window length.
+/// Forecasts many history windows in one call, for evaluations. `histories` is a flat,
+/// C-ordered `(n, window_len, 5)` array of poses on the config's grid (azimuth may be wrapped: it
+/// is unwrapped per window); `out` receives the flat `(n, horizons.len(), 5)` forecasts. The
+/// config's `history` is replaced by the window length. One forecaster serves every window.
 pub fn forecast_batch(
     config: &ForecasterConfig,
-    windows: &[Pose],
+    histories: &[f64],
     window_len: usize,
     horizons: &[f64],
-    out: &mut [Pose],
+    out: &mut [f64],
 ) -> Result<()> {
-    if window_len == 0 || windows.len() % window_len != 0 {
+    let stride = window_len * 5;
+    if window_len == 0 || histories.len() % stride != 0 {
         return Err(Error::LengthMismatch {
             name: "histories",
-            expected: window_len.max(1) * (windows.len() / window_len.max(1)).max(1),
-            got: windows.len(),
+            expected: stride.max(5) * (histories.len() / stride.max(5)).max(1),
+            got: histories.len(),
         });
     }
-    let count = windows.len() / window_len;
-    check_len("out", out.len(), count * horizons.len())?;
-    let mut cfg = *config;
-    check_positive("rate_hz", cfg.rate_hz, "a positive, finite grid rate in Hz")?;
-    cfg.history = window_len as f64 / cfg.rate_hz;
+    let count = histories.len() / stride;
+    check_len("out", out.len(), count * horizons.len() * 5)?;
+    check_positive(
+        "rate_hz",
+        config.rate_hz,
+        "a positive, finite grid rate in Hz",
+    )?;
+    let cfg = ForecasterConfig {
+        history: window_len as f64 / config.rate_hz,
+        ..*config
+    };
     let mut f = Forecaster::new(cfg)?;
-    let step = 1.0 / cfg.rate_hz;
-    for (w, (window, dest)) in windows
-        .chunks_exact(window_len)
-        .zip(out.chunks_exact_mut(horizons.len().max(1)))
-        .enumerate()
-    {
+    let mut poses = [[0.0; 5]; 16];
+    for (w, window) in histories.chunks_exact(stride).enumerate() {
         f.reset();
-        for (i, pose) in window.iter().enumerate() {
-            f.update(*pose, i as f64 * step, 1.0).map_err(|e| match e {
-                Error::NonFinite { name: "pose", .. } => Error::NonFinite {
-                    name: "histories",
-                    index: w,
-                },
-                other => other,
-            })?;
+        for (i, p) in window.chunks_exact(5).enumerate() {
+            let pose = [p[0], p[1], p[2], p[3], p[4]];
+            f.update(pose, i as f64 / cfg.rate_hz, 1.0)
+                .map_err(|e| match e {
+                    Error::NonFinite { name: "pose", .. } => Error::NonFinite {
+                        name: "histories",
+                        index: w,
+                    },
+                    other => other,
+                })?;
         }
-        f.forecast(horizons, &mut dest[..horizons.len()])?;
+        let dest = &mut out[w * horizons.len() * 5..(w + 1) * horizons.len() * 5];
+        // Horizons in chunks of 16 so the forecast buffer stays on the stack.
+        for (hs, d) in horizons.chunks(16).zip(dest.chunks_mut(16 * 5)) {
+            f.forecast(hs, &mut poses[..hs.len()])?;
+            for (o, p) in d.chunks_exact_mut(5).zip(&poses) {
+                o.copy_from_slice(p);
+            }
+        }
     }
     Ok(())
 }

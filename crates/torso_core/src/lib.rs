@@ -54,6 +54,11 @@ pub use plane::{
 };
 pub use smoothing::{fit_smoothing_spline, SmoothingSpline};
 
+/// The README's Rust example, compiled and run as a doctest.
+#[doc = include_str!("../../../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
+
 /// A torso pose as the forecaster sees it: `[x, y, z, azimuth, elevation]` (m, m, m, rad, rad).
 pub type Pose = [f64; 5];
 

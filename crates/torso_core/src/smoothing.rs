@@ -152,32 +152,47 @@ impl SmoothingSpline {
         let m = bspline::basis_count(n, p);
         check_len("coeffs", coeffs.len(), k * m)?;
 
-        let band = &mut self.band[..m * (p + 1)];
-        for (b, &pen) in band.iter_mut().zip(&self.penalty[..m * (p + 1)]) {
+        let w1 = p + 1;
+        let band = &mut self.band[..m * w1];
+        for (b, &pen) in band.iter_mut().zip(&self.penalty[..m * w1]) {
             *b = lam * pen;
         }
-        coeffs.fill(0.0);
-        for i in 0..n {
-            let w = weights[i];
+        // BᵀWB: sample i touches basis functions span_i - p ..= span_i.
+        for ((&w, &span), v) in weights
+            .iter()
+            .zip(&self.spans[..n])
+            .zip(self.colloc.chunks_exact(w1))
+        {
             if w == 0.0 {
                 continue;
             }
-            let first = self.spans[i] - p;
-            let v = &self.colloc[i * (p + 1)..(i + 1) * (p + 1)];
+            let first = span - p;
             for r in 0..=p {
+                let row = &mut band[(first + r) * w1..(first + r + 1) * w1];
                 let wv = w * v[r];
                 for c in 0..=r {
-                    band[banded::at(first + r, first + c, p)] += wv * v[c];
+                    row[r - c] += wv * v[c];
                 }
-                for comp in 0..k {
-                    coeffs[comp * m + first + r] += wv * ys[comp * n + i];
+            }
+        }
+        // BᵀW y, one component at a time so every access is contiguous.
+        let coeffs = &mut coeffs[..k * m];
+        coeffs.fill(0.0);
+        for (y, rhs) in ys.chunks_exact(n).zip(coeffs.chunks_exact_mut(m)) {
+            for (((&w, &yi), &span), v) in weights
+                .iter()
+                .zip(y)
+                .zip(&self.spans[..n])
+                .zip(self.colloc.chunks_exact(w1))
+            {
+                let wy = w * yi;
+                for (r, &vr) in v.iter().enumerate() {
+                    rhs[span - p + r] += wy * vr;
                 }
             }
         }
         banded::factor(band, m, p)?;
-        for comp in 0..k {
-            banded::solve(band, m, p, &mut coeffs[comp * m..(comp + 1) * m]);
-        }
+        banded::solve_many(band, m, p, coeffs, k);
         Ok(())
     }
 

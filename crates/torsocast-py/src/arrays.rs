@@ -20,13 +20,6 @@ pub fn points(flat: &[f64]) -> Vec<[f64; 3]> {
     flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
 }
 
-/// Rows of five (poses) from an `(n, 5)`-shaped flat buffer.
-pub fn poses(flat: &[f64]) -> Vec<[f64; 5]> {
-    flat.chunks_exact(5)
-        .map(|c| [c[0], c[1], c[2], c[3], c[4]])
-        .collect()
-}
-
 /// Checks the trailing dimension of an array shape.
 pub fn expect_last(name: &str, shape: &[usize], last: usize, expected: &str) -> PyResult<()> {
     if shape.last() == Some(&last) {

@@ -1,6 +1,6 @@
 //! Forecaster, its configuration and the batch call.
 
-use crate::arrays::{contiguous, matrix, poses};
+use crate::arrays::{contiguous, matrix};
 use crate::errors::{shape_error, to_py, unknown_option};
 use numpy::{
     AllowTypeChange, PyArray1, PyArray2, PyArray3, PyArrayLike3, PyArrayMethods,
@@ -319,16 +319,23 @@ pub fn forecast_batch<'py>(
     if shape[2] != 5 || shape[1] == 0 {
         return Err(shape_error("histories", "(n, T, 5) with T >= 1", &shape));
     }
-    let windows = poses(&contiguous(histories.as_array()));
+    let copied;
+    let flat: &[f64] = match histories.as_slice() {
+        Ok(s) => s,
+        Err(_) => {
+            copied = contiguous(histories.as_array());
+            &copied
+        }
+    };
     let config = config_or_default(config);
     let h = horizons.len();
+    let window_len = shape[1];
     let out = py
-        .detach(|| -> Result<Vec<Pose>, torso_core::Error> {
-            let mut out = vec![[0.0; 5]; shape[0] * h];
-            torso_core::forecast_batch(&config, &windows, shape[1], &horizons, &mut out)?;
+        .detach(|| -> Result<Vec<f64>, torso_core::Error> {
+            let mut out = vec![0.0; shape[0] * h * 5];
+            torso_core::forecast_batch(&config, flat, window_len, &horizons, &mut out)?;
             Ok(out)
         })
         .map_err(to_py)?;
-    let flat: Vec<f64> = out.into_iter().flatten().collect();
-    PyArray1::from_vec(py, flat).reshape([shape[0], h, 5])
+    PyArray1::from_vec(py, out).reshape([shape[0], h, 5])
 }

@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# The whole test suite, from a fresh clone: installs the package with its test extras, then runs
+# the Rust checks (format, clippy with warnings as errors, tests) and the Python ones (ruff, pytest).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+python3 -m pip install --quiet --upgrade pip
+python3 -m pip install --quiet ".[test]"
+cargo fmt --all -- --check
+cargo clippy --workspace --all-targets -- -D warnings
+cargo test --workspace
+python3 -m ruff check python tests benches
+python3 -m ruff format --check python tests benches
+python3 -m pytest tests
