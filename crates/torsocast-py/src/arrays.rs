@@ -7,6 +7,9 @@ use numpy::ndarray::{ArrayView, Dimension};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 
+/// Two arrays returned together, as a Python tuple.
+pub type ArrayPair<'py, A, B> = PyResult<(Bound<'py, A>, Bound<'py, B>)>;
+
 /// The array's elements in C order, borrowed when contiguous, copied otherwise.
 pub fn contiguous<D: Dimension>(view: ArrayView<'_, f64, D>) -> Vec<f64> {
     match view.as_slice() {

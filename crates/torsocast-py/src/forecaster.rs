@@ -1,6 +1,6 @@
 //! Forecaster, its configuration and the batch call.
 
-use crate::arrays::{contiguous, matrix};
+use crate::arrays::{contiguous, matrix, ArrayPair};
 use crate::errors::{shape_error, to_py, unknown_option};
 use numpy::{
     AllowTypeChange, PyArray1, PyArray2, PyArray3, PyArrayLike3, PyArrayMethods,
@@ -295,10 +295,7 @@ impl Forecaster {
     }
 
     /// history() -> (poses (n, 5) with azimuth unwrapped, weights (n,))
-    fn history<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>)> {
+    fn history<'py>(&self, py: Python<'py>) -> ArrayPair<'py, PyArray2<f64>, PyArray1<f64>> {
         let (p, w): (Vec<Pose>, Vec<f64>) = (0..self.inner.len())
             .filter_map(|i| self.inner.sample(i))
             .unzip();

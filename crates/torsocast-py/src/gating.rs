@@ -1,6 +1,6 @@
 //! Per-joint temporal gating.
 
-use crate::arrays::{contiguous, expect_last, matrix, points};
+use crate::arrays::{contiguous, expect_last, matrix, points, ArrayPair};
 use crate::errors::to_py;
 use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLike2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -48,7 +48,7 @@ impl JointGate {
         &mut self,
         py: Python<'py>,
         joints: PyArrayLike2<'py, f64, AllowTypeChange>,
-    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<u8>>)> {
+    ) -> ArrayPair<'py, PyArray2<f64>, PyArray1<u8>> {
         expect_last("joints", joints.shape(), 3, "(n_joints, 3)")?;
         let mut pts = points(&contiguous(joints.as_array()));
         self.inner

@@ -1,6 +1,6 @@
 //! Penalised B-spline smoothing.
 
-use crate::arrays::{contiguous, vector};
+use crate::arrays::{contiguous, vector, ArrayPair};
 use crate::errors::to_py;
 use numpy::{AllowTypeChange, PyArray1, PyArrayLike1};
 use pyo3::prelude::*;
@@ -15,7 +15,7 @@ pub fn fit_smoothing_spline<'py>(
     w: Option<PyArrayLike1<'py, f64, AllowTypeChange>>,
     lam: f64,
     degree: usize,
-) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+) -> ArrayPair<'py, PyArray1<f64>, PyArray1<f64>> {
     let (x, y) = (contiguous(x.as_array()), contiguous(y.as_array()));
     let w = w.map(|w| contiguous(w.as_array()));
     let (knots, coeffs) =
