@@ -153,3 +153,14 @@ def test_bad_input_raises_typed_errors_and_keeps_state():
 def test_config_errors_name_the_argument(kwargs, name):
     with pytest.raises(tc.InvalidArgumentError, match=name):
         tc.ForecasterConfig(**kwargs)
+
+
+def test_config_round_trips_through_the_forecaster():
+    config = tc.ForecasterConfig("constant_velocity", velocity_window=0.4, degree=3, filter="causal")
+    back = tc.Forecaster(config).config
+    assert (back.method, back.velocity_window, back.degree, back.filter) == (
+        "constant_velocity",
+        0.4,
+        3,
+        "causal",
+    )

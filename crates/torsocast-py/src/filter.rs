@@ -18,6 +18,17 @@ pub fn butter_lowpass(
     matrix(py, f.sections())
 }
 
+/// The designed filter and the finite-checked signal, shared by the window filters.
+fn design_and_signal(
+    x: PyArrayLike1<'_, f64, AllowTypeChange>,
+    order: usize,
+    cutoff_hz: f64,
+    rate_hz: f64,
+) -> PyResult<(SosFilter, Vec<f64>)> {
+    let f = design_lowpass(order, cutoff_hz, rate_hz).map_err(to_py)?;
+    Ok((f, signal(x)?))
+}
+
 fn signal(x: PyArrayLike1<'_, f64, AllowTypeChange>) -> PyResult<Vec<f64>> {
     let x = contiguous(x.as_array());
     if let Some(index) = x.iter().position(|v| !v.is_finite()) {
@@ -36,8 +47,7 @@ pub fn lowpass_causal<'py>(
     cutoff_hz: f64,
     rate_hz: f64,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-    let f = design_lowpass(order, cutoff_hz, rate_hz).map_err(to_py)?;
-    let mut y = signal(x)?;
+    let (f, mut y) = design_and_signal(x, order, cutoff_hz, rate_hz)?;
     let mut state = vec![[0.0; 2]; f.len()];
     f.filter_from_steady_state(&mut y, &mut state);
     Ok(vector(py, &y))
@@ -53,8 +63,7 @@ pub fn lowpass_zero_phase<'py>(
     cutoff_hz: f64,
     rate_hz: f64,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-    let f = design_lowpass(order, cutoff_hz, rate_hz).map_err(to_py)?;
-    let x = signal(x)?;
+    let (f, x) = design_and_signal(x, order, cutoff_hz, rate_hz)?;
     let mut y = vec![0.0; x.len()];
     ZeroPhase::new(f, x.len())
         .apply(&x, &mut y)

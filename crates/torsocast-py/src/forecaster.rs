@@ -218,10 +218,23 @@ fn config_or_default(config: Option<PyRef<'_, ForecasterConfig>>) -> torso_core:
     config.map_or_else(torso_core::ForecasterConfig::default, |c| c.inner)
 }
 
+impl ForecasterConfig {
+    /// The thesis defaults, as `ForecasterConfig()` gives them.
+    fn default_config() -> Self {
+        Self {
+            inner: torso_core::ForecasterConfig::default(),
+            spline: FilterSplineConfig::default(),
+            velocity_window: None,
+        }
+    }
+}
+
 /// Forecaster(config=None): one tracked person's torso pose forecaster.
 #[pyclass(module = "torsocast._core")]
 pub struct Forecaster {
     inner: torso_core::Forecaster,
+    /// The config as given, so `config` answers with every field the caller set.
+    config: ForecasterConfig,
     scratch: Vec<Pose>,
 }
 
@@ -230,8 +243,10 @@ impl Forecaster {
     #[new]
     #[pyo3(signature = (config=None))]
     fn new(config: Option<PyRef<'_, ForecasterConfig>>) -> PyResult<Self> {
+        let config = config.map_or_else(ForecasterConfig::default_config, |c| c.clone());
         Ok(Self {
-            inner: torso_core::Forecaster::new(config_or_default(config)).map_err(to_py)?,
+            inner: torso_core::Forecaster::new(config.inner).map_err(to_py)?,
+            config,
             scratch: Vec::new(),
         })
     }
@@ -281,17 +296,7 @@ impl Forecaster {
 
     #[getter]
     fn config(&self) -> ForecasterConfig {
-        let inner = *self.inner.config();
-        let (spline, velocity_window) = match inner.method {
-            Method::FilterSpline(s) => (s, None),
-            Method::ConstantVelocity { window } => (FilterSplineConfig::default(), window),
-            Method::Const => (FilterSplineConfig::default(), None),
-        };
-        ForecasterConfig {
-            inner,
-            spline,
-            velocity_window,
-        }
+        self.config.clone()
     }
 
     /// history() -> (poses (n, 5) with azimuth unwrapped, weights (n,))
