@@ -6,7 +6,9 @@
 //! never allocates.
 //!
 //! Storage is "lower band, row-major": entry `A[i][j]` with `j ≤ i ≤ j + p` lives at
-//! `band[i * (p + 1) + (i - j)]`, so `band[i * (p + 1)]` is the diagonal.
+//! `band[i * (p + 1) + (i - j)]`, so `band[i * (p + 1)]` is the diagonal. After [`factor`], that
+//! slot holds `1 / L_ii` instead of `L_ii`: the substitutions then multiply where they would
+//! divide, and a division's latency sits on their critical path once per row.
 
 use crate::error::{Error, Result};
 
@@ -16,12 +18,35 @@ pub fn at(i: usize, j: usize, p: usize) -> usize {
     i * (p + 1) + (i - j)
 }
 
+/// Calls `f::<N + 1>(args)`: the per-sample loops below are generic over the basis width, so
+/// they unroll and lose their bounds checks (at widths of 2 to 4, those cost as much as the
+/// arithmetic).
+macro_rules! by_width {
+    ($degree:expr, $f:ident($($arg:expr),*)) => {
+        match $degree {
+            0 => $f::<1>($($arg),*),
+            1 => $f::<2>($($arg),*),
+            2 => $f::<3>($($arg),*),
+            3 => $f::<4>($($arg),*),
+            4 => $f::<5>($($arg),*),
+            _ => unreachable!("degree is checked against MAX_DEGREE at construction"),
+        }
+    };
+}
+pub(crate) use by_width;
+
 /// Overwrites the band of `A` (`n` rows, half-bandwidth `p`) with its Cholesky factor `L`
-/// (`A = L Lᵀ`). Fails when a pivot is not clearly positive, relative to the original diagonal.
+/// (`A = L Lᵀ`), diagonal stored as reciprocals. Fails when a pivot is not clearly positive,
+/// relative to the original diagonal.
 pub fn factor(band: &mut [f64], n: usize, p: usize) -> Result<()> {
     debug_assert!(band.len() >= n * (p + 1));
+    by_width!(p, factor_width(&mut band[..n * (p + 1)], n))
+}
+
+fn factor_width<const W: usize>(band: &mut [f64], n: usize) -> Result<()> {
+    let p = W - 1;
     for j in 0..n {
-        let original = band[at(j, j, p)];
+        let original = band[j * W];
         let mut s = original;
         for k in j.saturating_sub(p)..j {
             let l = band[at(j, k, p)];
@@ -32,14 +57,14 @@ pub fn factor(band: &mut [f64], n: usize, p: usize) -> Result<()> {
         if !(s > 1e-13 * original.abs()) || !s.is_finite() {
             return Err(Error::NotPositiveDefinite { pivot: j });
         }
-        let d = s.sqrt();
-        band[at(j, j, p)] = d;
-        for i in (j + 1)..n.min(j + p + 1) {
+        let inverse = 1.0 / s.sqrt();
+        band[j * W] = inverse;
+        for i in (j + 1)..n.min(j + W) {
             let mut s = band[at(i, j, p)];
             for k in i.saturating_sub(p)..j {
                 s -= band[at(i, k, p)] * band[at(j, k, p)];
             }
-            band[at(i, j, p)] = s / d;
+            band[at(i, j, p)] = s * inverse;
         }
     }
     Ok(())
@@ -53,33 +78,42 @@ pub fn solve(factor: &[f64], n: usize, p: usize, b: &mut [f64]) {
 /// Solves `L Lᵀ X = B` in place for `k` right-hand sides stored one after another
 /// (`b[c * n + i]`): one sweep over the factor serves them all.
 pub fn solve_many(factor: &[f64], n: usize, p: usize, b: &mut [f64], k: usize) {
-    let w = p + 1;
-    let factor = &factor[..n * w];
-    let b = &mut b[..k * n];
-    // Forward: L z = b, row i of L is factor[i*w..] = [L_ii, L_i,i-1, ..., L_i,i-p].
-    for i in 0..n {
-        let row = &factor[i * w..(i + 1) * w];
-        let reach = p.min(i);
-        for c in 0..k {
-            let x = &mut b[c * n..(c + 1) * n];
+    solve_many_from(factor, n, p, b, k, 0);
+}
+
+/// [`solve_many`] for right-hand sides that are zero before row `first`: the forward sweep
+/// leaves those rows zero, so it starts at `first`.
+pub fn solve_many_from(factor: &[f64], n: usize, p: usize, b: &mut [f64], k: usize, first: usize) {
+    by_width!(
+        p,
+        solve_width(&factor[..n * (p + 1)], n, &mut b[..k * n], first)
+    )
+}
+
+fn solve_width<const W: usize>(factor: &[f64], n: usize, b: &mut [f64], first: usize) {
+    let p = W - 1;
+    // Forward: L z = b, row i of L is factor[i*W..] = [1/L_ii, L_i,i-1, ..., L_i,i-p].
+    for i in first..n {
+        let row: &[f64; W] = factor[i * W..(i + 1) * W].try_into().expect("W entries");
+        let reach = p.min(i - first);
+        for x in b.chunks_exact_mut(n) {
             let mut s = x[i];
             for d in 1..=reach {
                 s -= row[d] * x[i - d];
             }
-            x[i] = s / row[0];
+            x[i] = s * row[0];
         }
     }
-    // Backward: Lᵀ x = z, column i of L below the diagonal is factor[(i+d)*w + d].
+    // Backward: Lᵀ x = z, column i of L below the diagonal is factor[(i+d)*W + d].
     for i in (0..n).rev() {
         let reach = p.min(n - 1 - i);
-        let diag = factor[i * w];
-        for c in 0..k {
-            let x = &mut b[c * n..(c + 1) * n];
+        let inverse = factor[i * W];
+        for x in b.chunks_exact_mut(n) {
             let mut s = x[i];
             for d in 1..=reach {
-                s -= factor[(i + d) * w + d] * x[i + d];
+                s -= factor[(i + d) * W + d] * x[i + d];
             }
-            x[i] = s / diag;
+            x[i] = s * inverse;
         }
     }
 }

@@ -180,7 +180,6 @@ struct SplineEngine {
     cfg: FilterSplineConfig,
     causal: Option<SosFilter>,
     zero_phase: Option<ZeroPhase>,
-    filter_state: Vec<[f64; 2]>,
     spline: SmoothingSpline,
     /// Abscissa units per second (1/step for samples, 1 for seconds).
     units_per_second: f64,
@@ -189,7 +188,8 @@ struct SplineEngine {
     smoothed: Vec<f64>,
     weights: Vec<f64>,
     abscissae: Vec<f64>,
-    coeffs: Vec<f64>,
+    /// `(N + 1) × n` map from the (filtered) window to the end derivatives, for these weights.
+    end_map: Vec<f64>,
     /// `(N + 1) × T` maps from a full, uniformly weighted history to the derivatives; index 0 for
     /// unfiltered components, 1 for filtered ones.
     fast: Option<[Vec<f64>; 2]>,
@@ -384,10 +384,8 @@ impl SplineEngine {
             LambdaUnit::Samples => (rate, 1.0),
             LambdaUnit::Seconds => (1.0, step),
         };
-        let m = bspline::basis_count(capacity, cfg.degree);
         let mut engine = Self {
             cfg,
-            filter_state: vec![[0.0; 2]; causal.as_ref().map_or(0, SosFilter::len)],
             causal,
             zero_phase,
             spline,
@@ -397,7 +395,7 @@ impl SplineEngine {
             smoothed: vec![0.0; 5 * capacity],
             weights: vec![0.0; capacity],
             abscissae: vec![0.0; capacity],
-            coeffs: vec![0.0; 5 * m],
+            end_map: vec![0.0; (cfg.degree + 1) * capacity],
             fast: None,
         };
         if fast_path {
@@ -481,7 +479,7 @@ impl SplineEngine {
             match (on, &self.causal, &mut self.zero_phase) {
                 (true, Some(sos), _) => {
                     y.copy_from_slice(x);
-                    sos.filter_from_steady_state(y, &mut self.filter_state);
+                    sos.filter_from_steady_state(y);
                 }
                 (true, None, Some(zp)) => zp.apply(x, y)?,
                 _ => y.copy_from_slice(x),
@@ -493,21 +491,14 @@ impl SplineEngine {
             }
             self.spline.set_abscissae(&self.abscissae[..n])?;
         }
-        let m = self.spline.coefficient_count();
-        self.spline.fit(
-            &self.weights[..n],
-            self.cfg.lam,
-            &self.smoothed[..k * n],
-            &mut self.coeffs[..k * m],
-        )?;
-        let mut derivs = [0.0; MAX_DEGREE + 1];
-        for c in 0..k {
-            self.spline
-                .end_derivatives(&self.coeffs[c * m..(c + 1) * m], &mut derivs);
+        let map = &mut self.end_map[..(self.cfg.degree + 1) * n];
+        self.spline
+            .end_derivative_map(&self.weights[..n], self.cfg.lam, map)?;
+        for (c, y) in self.smoothed[..k * n].chunks_exact(n).enumerate() {
             // d/dt = (units per second) · d/du, once per order of differentiation.
             let mut scale = 1.0;
-            for (order, v) in derivs.iter().enumerate().take(self.cfg.degree + 1) {
-                d[c][order] = v * scale;
+            for (order, h) in map.chunks_exact(n).enumerate() {
+                d[c][order] = dot(h, y) * scale;
                 scale *= self.units_per_second;
             }
         }

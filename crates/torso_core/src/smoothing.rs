@@ -10,7 +10,7 @@
 //! spline, i.e. `scipy.interpolate.make_smoothing_spline(x, y, w, lam)`. For `N ≤ 1` the penalty
 //! vanishes and the fit interpolates the samples, as the thesis notes.
 
-use crate::banded;
+use crate::banded::{self, by_width};
 use crate::bspline::{self, MAX_DEGREE};
 use crate::error::{check_len, check_weights, Error, Result};
 
@@ -29,6 +29,8 @@ pub struct SmoothingSpline {
     penalty: Vec<f64>,
     /// Working band: normal matrix, then its Cholesky factor.
     band: Vec<f64>,
+    /// `A⁻¹ a_k` for the end-derivative map, `N + 1` vectors of `m`.
+    solved: Vec<f64>,
 }
 
 impl SmoothingSpline {
@@ -58,6 +60,7 @@ impl SmoothingSpline {
             spans: vec![0; capacity],
             penalty: vec![0.0; m * (degree + 1)],
             band: vec![0.0; m * (degree + 1)],
+            solved: vec![0.0; m * (degree + 1)],
         })
     }
 
@@ -115,6 +118,76 @@ impl SmoothingSpline {
     /// Fits `k = ys.len() / n` components at once. `ys` is component-major (`ys[c * n + i]`),
     /// `weights` has one entry per sample, and the coefficients go to `coeffs[c * m + j]`.
     pub fn fit(&mut self, weights: &[f64], lam: f64, ys: &[f64], coeffs: &mut [f64]) -> Result<()> {
+        let n = self.n;
+        self.check_fit_inputs(weights, lam)?;
+        if ys.is_empty() || ys.len() % n != 0 {
+            return Err(Error::LengthMismatch {
+                name: "y",
+                expected: n,
+                got: ys.len(),
+            });
+        }
+        if let Some(index) = ys.iter().position(|v| !v.is_finite()) {
+            return Err(Error::NonFinite { name: "y", index });
+        }
+        let (p, k, m) = (self.degree, ys.len() / n, self.coefficient_count());
+        check_len("coeffs", coeffs.len(), k * m)?;
+        self.factor_normal_matrix(weights, lam)?;
+        // BᵀW y, one component at a time so every access is contiguous.
+        let coeffs = &mut coeffs[..k * m];
+        coeffs.fill(0.0);
+        for (y, rhs) in ys.chunks_exact(n).zip(coeffs.chunks_exact_mut(m)) {
+            for (((&w, &yi), &span), v) in weights
+                .iter()
+                .zip(y)
+                .zip(&self.spans[..n])
+                .zip(self.colloc.chunks_exact(p + 1))
+            {
+                let wy = w * yi;
+                for (r, &vr) in v.iter().enumerate() {
+                    rhs[span - p + r] += wy * vr;
+                }
+            }
+        }
+        banded::solve_many(&self.band, m, p, coeffs, k);
+        Ok(())
+    }
+
+    /// The linear map from data to end derivatives: after this call, `map[k * n + i]` holds
+    /// `h_k[i]` such that the fit to any `y` with these weights and λ has
+    /// `f^(k)(x_last) = Σ_i h_k[i] y_i` for `k = 0..=N`. `map` has `(N + 1) · n` entries.
+    ///
+    /// `f^(k)(x_last) = a_kᵀ c` with `a_k` the basis derivatives at the last sample and
+    /// `c = A⁻¹ BᵀW y`, so `h_k = W B A⁻¹ a_k`: N + 1 banded solves, however many components
+    /// share the weights, and the components then cost one dot product per derivative. A
+    /// forecast needs nothing but these derivatives.
+    pub fn end_derivative_map(&mut self, weights: &[f64], lam: f64, map: &mut [f64]) -> Result<()> {
+        let (n, p) = (self.n, self.degree);
+        self.check_fit_inputs(weights, lam)?;
+        check_len("map", map.len(), (p + 1) * n)?;
+        self.factor_normal_matrix(weights, lam)?;
+        let m = self.coefficient_count();
+        let knots = &self.knots[..bspline::knot_count(n, p)];
+        let span = bspline::last_span(knots, p);
+        let mut ders = [[0.0; MAX_DEGREE + 1]; MAX_DEGREE + 1];
+        bspline::basis_derivatives(knots, p, span, self.end_abscissa(), p, &mut ders);
+        let solved = &mut self.solved[..(p + 1) * m];
+        solved.fill(0.0);
+        for (k, u) in solved.chunks_exact_mut(m).enumerate() {
+            u[span - p..=span].copy_from_slice(&ders[k][..=p]);
+        }
+        banded::solve_many_from(&self.band, m, p, solved, p + 1, span - p);
+        for (h, u) in map.chunks_exact_mut(n).zip(solved.chunks_exact(m)) {
+            by_width!(
+                p,
+                weighted_basis_products(h, u, weights, &self.spans, &self.colloc)
+            );
+        }
+        Ok(())
+    }
+
+    /// Argument checks shared by the fits (the data are checked by the caller).
+    fn check_fit_inputs(&self, weights: &[f64], lam: f64) -> Result<()> {
         let (n, p) = (self.n, self.degree);
         if n == 0 {
             return Err(Error::NotEnoughHistory {
@@ -138,62 +211,27 @@ impl SmoothingSpline {
                 value: lam,
             });
         }
-        if ys.is_empty() || ys.len() % n != 0 {
-            return Err(Error::LengthMismatch {
-                name: "y",
-                expected: n,
-                got: ys.len(),
-            });
-        }
-        if let Some(index) = ys.iter().position(|v| !v.is_finite()) {
-            return Err(Error::NonFinite { name: "y", index });
-        }
-        let k = ys.len() / n;
-        let m = bspline::basis_count(n, p);
-        check_len("coeffs", coeffs.len(), k * m)?;
+        Ok(())
+    }
 
+    /// Assembles `BᵀWB + λΩ` in `self.band` and factors it in place.
+    fn factor_normal_matrix(&mut self, weights: &[f64], lam: f64) -> Result<()> {
+        let (n, p) = (self.n, self.degree);
+        let m = self.coefficient_count();
         let w1 = p + 1;
         let band = &mut self.band[..m * w1];
         for (b, &pen) in band.iter_mut().zip(&self.penalty[..m * w1]) {
             *b = lam * pen;
         }
-        // BᵀWB: sample i touches basis functions span_i - p ..= span_i.
-        for ((&w, &span), v) in weights
-            .iter()
-            .zip(&self.spans[..n])
-            .zip(self.colloc.chunks_exact(w1))
-        {
-            if w == 0.0 {
-                continue;
-            }
-            let first = span - p;
-            for r in 0..=p {
-                let row = &mut band[(first + r) * w1..(first + r + 1) * w1];
-                let wv = w * v[r];
-                for c in 0..=r {
-                    row[r - c] += wv * v[c];
-                }
-            }
-        }
-        // BᵀW y, one component at a time so every access is contiguous.
-        let coeffs = &mut coeffs[..k * m];
-        coeffs.fill(0.0);
-        for (y, rhs) in ys.chunks_exact(n).zip(coeffs.chunks_exact_mut(m)) {
-            for (((&w, &yi), &span), v) in weights
-                .iter()
-                .zip(y)
-                .zip(&self.spans[..n])
-                .zip(self.colloc.chunks_exact(w1))
-            {
-                let wy = w * yi;
-                for (r, &vr) in v.iter().enumerate() {
-                    rhs[span - p + r] += wy * vr;
-                }
-            }
-        }
-        banded::factor(band, m, p)?;
-        banded::solve_many(band, m, p, coeffs, k);
-        Ok(())
+        by_width!(p, add_gram(band, weights, &self.spans[..n], &self.colloc));
+        banded::factor(band, m, p)
+    }
+
+    /// The abscissa of the last sample, where the forecast's polynomial continuation starts.
+    fn end_abscissa(&self) -> f64 {
+        let knots = self.knots();
+        // Degree 0 carries one knot past the last sample; every other degree ends on it.
+        knots[knots.len() - if self.degree == 0 { 2 } else { 1 }]
     }
 
     /// Value of the fitted spline at `t` (polynomial continuation outside the samples).
@@ -207,14 +245,56 @@ impl SmoothingSpline {
         let p = self.degree;
         let knots = self.knots();
         let span = bspline::last_span(knots, p);
-        // Degree 0 carries one knot past the last sample; every other degree ends on it.
-        let t_end = knots[knots.len() - if p == 0 { 2 } else { 1 }];
+        let t_end = self.end_abscissa();
         let mut ders = [[0.0; MAX_DEGREE + 1]; MAX_DEGREE + 1];
         bspline::basis_derivatives(knots, p, span, t_end, p, &mut ders);
         out.fill(0.0);
         for (k, o) in out.iter_mut().enumerate().take(p + 1) {
             *o = (0..=p).map(|j| coeffs[span - p + j] * ders[k][j]).sum();
         }
+    }
+}
+
+/// Adds `BᵀWB` to `band` (half-bandwidth `W - 1`): sample `i` touches the `W` basis functions
+/// ending at `spans[i]`, with values `colloc[i * W..]`.
+fn add_gram<const W: usize>(band: &mut [f64], weights: &[f64], spans: &[usize], colloc: &[f64]) {
+    for ((&w, &span), v) in weights.iter().zip(spans).zip(colloc.chunks_exact(W)) {
+        if w == 0.0 {
+            continue;
+        }
+        let v: &[f64; W] = v.try_into().expect("chunks of W");
+        let first = span + 1 - W;
+        let rows: &mut [f64] = &mut band[first * W..(first + W) * W];
+        for r in 0..W {
+            let wv = w * v[r];
+            for c in 0..=r {
+                rows[r * W + r - c] += wv * v[c];
+            }
+        }
+    }
+}
+
+/// `h[i] = w_i Σ_r B_{span_i - W + 1 + r}(x_i) u[span_i - W + 1 + r]`, i.e. `h = W B u`.
+fn weighted_basis_products<const W: usize>(
+    h: &mut [f64],
+    u: &[f64],
+    weights: &[f64],
+    spans: &[usize],
+    colloc: &[f64],
+) {
+    for (((hi, &w), &span), v) in h
+        .iter_mut()
+        .zip(weights)
+        .zip(spans)
+        .zip(colloc.chunks_exact(W))
+    {
+        let v: &[f64; W] = v.try_into().expect("chunks of W");
+        let u: &[f64; W] = u[span + 1 - W..=span].try_into().expect("W coefficients");
+        let mut sum = 0.0;
+        for r in 0..W {
+            sum += v[r] * u[r];
+        }
+        *hi = w * sum;
     }
 }
 
@@ -261,13 +341,14 @@ mod tests {
 
     #[test]
     fn huge_lambda_tends_to_the_weighted_least_squares_line() {
-        // As λ → ∞ the cubic smoothing spline tends to the straight-line least-squares fit.
+        // As λ → ∞ the cubic smoothing spline tends to the straight-line least-squares fit; at
+        // λ = 1e6 SciPy is 1e-7 from it, and beyond, the normal equations lose digits to conditioning.
         let x: Vec<f64> = (0..12).map(|i| i as f64 * 0.5).collect();
         let y: Vec<f64> = x
             .iter()
             .map(|t| 0.3 * t - 1.0 + (3.0 * t).sin() * 0.2)
             .collect();
-        let (knots, c) = fit_smoothing_spline(&x, &y, None, 1e9, 3).unwrap();
+        let (knots, c) = fit_smoothing_spline(&x, &y, None, 1e6, 3).unwrap();
         let n = x.len() as f64;
         let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
         let sxy: f64 = x.iter().zip(&y).map(|(a, b)| (a - mx) * (b - my)).sum();
@@ -275,7 +356,8 @@ mod tests {
         let slope = sxy / sxx;
         for &t in &[0.0, 2.2, 5.5] {
             let line = my + slope * (t - mx);
-            assert!((bspline::evaluate(&knots, 3, &c, t) - line).abs() < 1e-5);
+            let got = bspline::evaluate(&knots, 3, &c, t);
+            assert!((got - line).abs() < 1e-6, "t {t}: {got} vs {line}");
         }
     }
 
@@ -301,6 +383,35 @@ mod tests {
                 }
                 let direct = s.evaluate(&c, 8.0 + tau);
                 assert!((taylor - direct).abs() < 1e-10, "degree {degree} tau {tau}");
+            }
+        }
+    }
+
+    #[test]
+    fn end_derivative_map_equals_fitting_then_differentiating() {
+        let x: Vec<f64> = (0..11).map(|i| 0.3 * i as f64).collect();
+        let y: Vec<f64> = x.iter().map(|t| (1.3 * t).sin() + 0.2 * t * t).collect();
+        let w: Vec<f64> = (0..11).map(|i| 0.5 + (i % 3) as f64 * 0.7).collect();
+        for degree in 0..=4 {
+            let mut s = SmoothingSpline::new(degree, 11).unwrap();
+            s.set_abscissae(&x).unwrap();
+            let mut c = vec![0.0; s.coefficient_count()];
+            s.fit(&w, 0.2, &y, &mut c).unwrap();
+            let mut expected = [0.0; MAX_DEGREE + 1];
+            s.end_derivatives(&c, &mut expected);
+            let mut map = vec![0.0; (degree + 1) * 11];
+            s.end_derivative_map(&w, 0.2, &mut map).unwrap();
+            for k in 0..=degree {
+                let got: f64 = map[k * 11..(k + 1) * 11]
+                    .iter()
+                    .zip(&y)
+                    .map(|(h, v)| h * v)
+                    .sum();
+                let tolerance = 1e-9 * (1.0 + expected[k].abs());
+                assert!(
+                    (got - expected[k]).abs() < tolerance,
+                    "degree {degree}, k {k}"
+                );
             }
         }
     }

@@ -48,8 +48,7 @@ pub fn lowpass_causal<'py>(
     rate_hz: f64,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let (f, mut y) = design_and_signal(x, order, cutoff_hz, rate_hz)?;
-    let mut state = vec![[0.0; 2]; f.len()];
-    f.filter_from_steady_state(&mut y, &mut state);
+    f.filter_from_steady_state(&mut y);
     Ok(vector(py, &y))
 }
 
