@@ -30,3 +30,15 @@ def walking_history(n=50, rate=25.0, seed=0):
         axis=1,
     )
     return t, hist
+
+
+#: The shared data folder beside the checkout (CI has it); TORSOCAST_SHARED overrides.
+SHARED = Path(__import__("os").environ.get("TORSOCAST_SHARED", Path(__file__).parents[1] / ".." / "shared"))
+H36M = SHARED / "data" / "h36m"
+
+
+@pytest.fixture(scope="session")
+def h36m_root():
+    if not (H36M / "S5").is_dir():
+        pytest.skip(f"Human3.6M files not found at {H36M} (research-only data, read from ../shared)")
+    return H36M

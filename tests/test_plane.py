@@ -79,3 +79,23 @@ def test_plane_errors_are_typed(rng):
     with pytest.raises(tc.TooFewJointsError):
         tc.shoulder_heading([np.nan, 0, 0], [0, 0, 0])
     assert issubclass(tc.TooFewJointsError, ValueError)
+
+
+def test_min_orientation_cosine_zero_orients_a_torso_bent_double():
+    # Shoulders 0.5 m from the hips along a direction 1 degree from straight down-forward.
+    lean = np.radians(89.0)
+    axis = np.array([np.sin(lean), 0.0, np.cos(lean)])
+    joints = np.array([[0.0, 0.18, 0.0], [0.0, -0.18, 0.0], [0.0, 0.12, 0.0], [0.0, -0.12, 0.0]])
+    joints[:2] += 0.5 * axis
+    frames = joints[None] + np.array([0.0, 0.0, 1.0])
+    assert tc.fit_planes(frames, "LRLR")["status"][0] == tc.PlaneStatus.AMBIGUOUS_ORIENTATION
+    out = tc.fit_planes(frames, "LRLR", min_orientation_cosine=0.0)
+    # Independent reference: SVD normal, signed along (left - right) x up.
+    centred = frames[0] - frames[0].mean(axis=0)
+    normal = np.linalg.svd(centred)[2][2]
+    forward = np.cross(frames[0, 0] + frames[0, 2] - frames[0, 1] - frames[0, 3], [0.0, 0.0, 1.0])
+    normal *= np.sign(normal @ forward)
+    assert out["status"][0] == tc.PlaneStatus.OK
+    assert np.allclose(out["normal"][0], normal, atol=1e-12)
+    with pytest.raises(tc.InvalidArgumentError, match="min_orientation_cosine"):
+        tc.fit_planes(frames, "LRLR", min_orientation_cosine=1.5)

@@ -69,7 +69,10 @@ class TorsoPlane:
 
 def fit_plane(joints: _ArrayLike, sides: str, weights: _ArrayLike | None = None) -> TorsoPlane: ...
 def fit_planes(
-    joints: _ArrayLike, sides: str, weights: _ArrayLike | None = None
+    joints: _ArrayLike,
+    sides: str,
+    weights: _ArrayLike | None = None,
+    min_orientation_cosine: float = 0.05,
 ) -> dict[str, npt.NDArray[np.float64] | npt.NDArray[np.uint8]]: ...
 def shoulder_heading(left: Sequence[float], right: Sequence[float]) -> tuple[_F64, float]: ...
 

@@ -1,10 +1,12 @@
-"""Command line: ``torsocast bench`` and ``torsocast forecast``."""
+"""Command line: ``torsocast bench``, ``torsocast forecast`` and ``torsocast eval``."""
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
+from pathlib import Path
 
 import numpy as np
 
@@ -53,6 +55,46 @@ def _forecast(args: argparse.Namespace) -> int:
     return 0
 
 
+#: Where ``torsocast eval h36m`` looks when ``--data`` is not given.
+H36M_ENV = "TORSOCAST_H36M"
+H36M_GUESS = Path("../shared/data/h36m")
+
+
+def _eval_h36m(args: argparse.Namespace) -> int:
+    from .datasets import h36m
+    from .evaluation import report
+    from .evaluation.h36m import evaluate
+    from .evaluation.methods import method_configs
+    from .progress import Progress
+
+    data = args.data or os.environ.get(H36M_ENV) or (H36M_GUESS if H36M_GUESS.is_dir() else None)
+    if data is None:
+        print(f"no Human3.6M data: pass --data DIR or set {H36M_ENV}", file=sys.stderr)
+        return 2
+    subjects = [int(s) for s in args.subjects.split(",")]
+    files = sum(len(h36m.available(data, s)) for s in subjects)
+    if files == 0:
+        print(
+            f"{data}: no Human3.6M files for subjects {subjects} (expected S<n>/<action>_<1|2>.txt)",
+            file=sys.stderr,
+        )
+        return 2
+    methods = method_configs()
+    progress = Progress(files + len(methods), f"eval h36m ({args.protocol})")
+    result = evaluate(data, subjects, args.protocol, args.every, methods, progress)
+    print(report.markdown(result))
+    try:
+        import matplotlib  # noqa: F401
+
+        draw = True
+    except ImportError:
+        draw = False
+        print("figures skipped: matplotlib is not installed (pip install 'torsocast[eval]')", file=sys.stderr)
+    written = report.write(result, args.out, draw=draw)
+    print(f"wrote {', '.join(str(p) for p in written)}", file=sys.stderr)
+    return 0
+
+
 def _is_number(text: str) -> bool:
     try:
         float(text)
@@ -78,6 +120,17 @@ def main(argv: list[str] | None = None) -> int:
     fc.add_argument("--filter", default="zero_phase", choices=["off", "causal", "zero_phase"])
     fc.add_argument("--rate", type=float, default=25.0, help="forecaster grid rate (Hz)")
     fc.add_argument("--history", type=float, default=2.0, help="history length (s)")
+    ev = sub.add_parser("eval", help="forecasting evaluation on a dataset")
+    ev_sub = ev.add_subparsers(dest="dataset", required=True)
+    h36 = ev_sub.add_parser("h36m", help="Human3.6M exponential-map files (research-only licence)")
+    h36.add_argument("--data", help=f"folder with S1/, S5/... (default: ${H36M_ENV}, else {H36M_GUESS})")
+    h36.add_argument(
+        "--subjects", default="5", help="comma-separated subject numbers (5 is the test subject)"
+    )
+    h36.add_argument("--protocol", default="dense", choices=["seeds", "dense"])
+    h36.add_argument("--every", type=int, default=10, help="dense protocol: a window every N samples")
+    h36.add_argument("--out", default="eval_h36m", help="folder for report.md/.json/.csv and the figures")
+    h36.set_defaults(run=_eval_h36m)
     fc.set_defaults(run=_forecast)
     args = parser.parse_args(argv)
     try:

@@ -50,7 +50,8 @@ pub use forecaster::{
 pub use gating::{GateConfig, JointGate, JointStatus};
 pub use history::UpdateReport;
 pub use plane::{
-    fit_torso_plane, fit_torso_planes, shoulder_heading, ShoulderHeading, Side, TorsoPlane,
+    fit_torso_plane, fit_torso_plane_with, fit_torso_planes, shoulder_heading, ShoulderHeading,
+    Side, TorsoPlane, MIN_ORIENTATION_COSINE, MIN_PLANARITY,
 };
 pub use smoothing::{fit_smoothing_spline, SmoothingSpline};
 

@@ -75,14 +75,16 @@ fn status(result: &Result<torso_core::TorsoPlane, Error>) -> u8 {
     }
 }
 
-/// fit_planes(joints, sides, weights=None) -> dict of arrays, one row per frame
+/// fit_planes(joints, sides, weights=None, min_orientation_cosine=0.05) -> dict of arrays, one row per frame
 #[pyfunction]
-#[pyo3(signature = (joints, sides, weights=None))]
+// The default is torso_core::MIN_ORIENTATION_COSINE, written out so that it shows in the signature.
+#[pyo3(signature = (joints, sides, weights=None, min_orientation_cosine=0.05))]
 pub fn fit_planes<'py>(
     py: Python<'py>,
     joints: PyArrayLike3<'py, f64, AllowTypeChange>,
     sides: &str,
     weights: Option<PyArrayLike2<'py, f64, AllowTypeChange>>,
+    min_orientation_cosine: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let shape = joints.shape().to_vec();
     expect_last("joints", &shape, 3, "(frames, joints, 3)")?;
@@ -104,7 +106,8 @@ pub fn fit_planes<'py>(
     let (mut azimuth, mut elevation, mut rms) =
         (vec![f64::NAN; n], vec![f64::NAN; n], vec![f64::NAN; n]);
     let mut codes = vec![0u8; n];
-    let results = torso_core::fit_torso_planes(&pts, &sides, w.as_deref()).map_err(to_py)?;
+    let results = torso_core::fit_torso_planes(&pts, &sides, w.as_deref(), min_orientation_cosine)
+        .map_err(to_py)?;
     for (i, result) in results.enumerate() {
         codes[i] = status(&result);
         if let Ok(p) = result {

@@ -1,0 +1,1 @@
+"""Forecasting evaluations: protocols, metrics, the methods compared, and the reports."""

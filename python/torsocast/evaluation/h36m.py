@@ -1,0 +1,134 @@
+"""Forecasting evaluation on Human3.6M: every method on the same windows, summarised per action,
+per thesis category and overall.
+
+Aggregation: an action's figure is the mean over its windows; a category's (and "All") is the mean
+of its actions' figures, as the thesis' "All (average)" rows are; "pooled" is the mean over every
+window, which weights actions by their length.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .._core import ForecasterConfig, forecast_batch
+from ..datasets import h36m
+from . import metrics, protocol
+from .methods import LABELS, describe, method_configs
+
+#: Forecast steps 1..50 of 40 ms: the per-step curve from 40 ms to 2 s.
+STEPS = protocol.FUTURE
+
+Progress = Callable[[str], None]
+
+
+def load(data: str | Path, subjects: Sequence[int], progress: Progress | None = None) -> list[h36m.Sequence]:
+    """Every available file of the subjects as a pose series."""
+    pairs = [(s, a, sub) for s in subjects for a, sub in h36m.available(data, s)]
+    if not pairs:
+        raise FileNotFoundError(f"no Human3.6M files for subjects {list(subjects)} under {data}")
+    sequences = []
+    for subject, action, sub in pairs:
+        sequences.append(h36m.load_sequence(data, subject, action, sub))
+        if progress:
+            progress(sequences[-1].name)
+    return sequences
+
+
+def summarise(errors: metrics.StepErrors, mask: np.ndarray) -> dict[str, Any]:
+    """Window-mean and end-of-window errors at the table horizons, and the per-step curve."""
+    out: dict[str, Any] = {}
+    for quantity in metrics.QUANTITIES:
+        e = errors.of(quantity)[mask]
+        out[quantity] = {
+            "mean": {str(h): float(metrics.window_mean(e, h).mean()) for h in metrics.HORIZONS},
+            "end": {str(h): float(metrics.window_end(e, h).mean()) for h in metrics.HORIZONS},
+            "curve": [float(v) for v in e.mean(axis=0)],
+        }
+    return out
+
+
+def average(summaries: list[dict[str, Any]]) -> dict[str, Any]:
+    """Element-wise mean of several :func:`summarise` results (a category from its actions)."""
+    first = summaries[0]
+    if isinstance(first, dict):
+        return {k: average([s[k] for s in summaries]) for k in first}
+    if isinstance(first, list):
+        return [float(v) for v in np.mean(summaries, axis=0)]  # type: ignore[return-value]
+    return float(np.mean(summaries))  # type: ignore[return-value]
+
+
+def groups(actions: Sequence[str]) -> dict[str, list[str]]:
+    """The categories (and "All") over the actions that have windows."""
+    present = [a for a in h36m.ACTIONS if a in set(actions)]
+    out = {name: [a for a in members if a in present] for name, members in h36m.CATEGORIES.items()}
+    out["All"] = present
+    return {name: members for name, members in out.items() if members}
+
+
+def evaluate(
+    data: str | Path,
+    subjects: Sequence[int] = (5,),
+    protocol_name: str = "dense",
+    every: int = 10,
+    methods: Mapping[str, ForecasterConfig] | None = None,
+    progress: Progress | None = None,
+) -> dict[str, Any]:
+    """Runs every method on the protocol's windows and returns the report as plain data (the JSON
+    output holds exactly this)."""
+    methods = dict(methods) if methods is not None else method_configs()
+    sequences = load(data, subjects, progress)
+    windows = protocol.select(sequences, protocol_name, every)
+    if len(windows) == 0:
+        raise ValueError(f"protocol {protocol_name!r} found no windows in {len(sequences)} sequences")
+    horizons = list(np.arange(1, STEPS + 1) / h36m.RATE_HZ)
+    action_names = [a for a in h36m.ACTIONS if a in set(windows.action)]
+    category_members = groups(action_names)
+    results: dict[str, Any] = {}
+    for name, config in methods.items():
+        forecast = forecast_batch(windows.history, horizons, config)
+        errors = metrics.step_errors(forecast, windows.future)
+        per_action = {a: summarise(errors, windows.action == a) for a in action_names}
+        results[name] = {
+            "actions": per_action,
+            "categories": {
+                c: average([per_action[a] for a in members]) for c, members in category_members.items()
+            },
+            "pooled": summarise(errors, np.ones(len(windows), dtype=bool)),
+        }
+        if progress:
+            progress(f"method {name}")
+    return {
+        "dataset": "Human3.6M (exponential-map files)",
+        "data": str(data),
+        "subjects": list(subjects),
+        "protocol": protocol_name,
+        "every": every if protocol_name == "dense" else None,
+        "rate_hz": h36m.RATE_HZ,
+        "history_steps": protocol.HISTORY,
+        "horizons_steps": list(metrics.HORIZONS),
+        "units": metrics.UNITS,
+        "windows": {
+            "total": len(windows),
+            "skipped": windows.skipped,
+            "per_action": {a: int((windows.action == a).sum()) for a in action_names},
+        },
+        "categories": category_members,
+        "sequences": [
+            {
+                "name": s.name,
+                "frames_25hz": len(s.poses),
+                "gravity_rule": s.gravity.rule,
+                "gravity_tilt_deg": s.gravity.tilt_deg,
+                "floor_spine_angle_deg": s.gravity.floor_spine_angle_deg,
+            }
+            for s in sequences
+        ],
+        "methods": {
+            name: {"label": LABELS.get(name, name), "config": describe(c)} for name, c in methods.items()
+        },
+        "results": results,
+    }

@@ -1,0 +1,119 @@
+"""Human3.6M loader and evaluation protocol, on the real files (skipped without ../shared)."""
+
+import json
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+import torsocast as tc
+from torsocast.cli import main
+from torsocast.datasets import h36m
+from torsocast.evaluation import metrics, protocol
+from torsocast.evaluation.h36m import evaluate
+from torsocast.evaluation.methods import method_configs
+
+
+def test_expmap_matches_scipy_rotvec(rng):
+    r = rng.normal(size=(200, 3)) * 1.5
+    r[0] = 0.0
+    expected = Rotation.from_rotvec(r).as_matrix()
+    assert np.allclose(h36m.expmap_to_rotmat(r), expected, atol=1e-6)
+
+
+def test_azimuth_error_wraps_and_position_is_in_centimetres():
+    truth = np.zeros((1, 2, 5))
+    forecast = np.zeros((1, 2, 5))
+    truth[0, :, 3] = np.radians([179.0, -179.0])
+    forecast[0, :, 3] = np.radians([-179.0, 181.0 + 360.0])
+    forecast[0, 1, :3] = [0.03, 0.04, 0.0]
+    e = metrics.step_errors(forecast, truth)
+    assert np.allclose(e.azimuth, [[2.0, 0.0]], atol=1e-9)
+    assert np.allclose(e.position, [[0.0, 5.0]])
+
+
+def test_srnn_seeds_match_the_published_draws():
+    # SKELETON.md, section 4: the 8 draws for walking and eating (start = draw + 50).
+    walking = [1087, 955, 1145, 332, 660, 304, 201, 54]
+    eating = [1426, 374, 1087, 156, 1329, 955, 1145, 332]
+    for (t1, t2), draws in (((1500, 1261), walking), ((1638, 1166), eating)):
+        starts = protocol.srnn_starts(t1, t2)
+        assert [s for _, s in starts] == [d + 50 for d in draws]
+        assert [sub for sub, _ in starts] == [1, 2] * 4
+
+
+def test_walking_skeleton_is_metric_sided_and_moves_at_walking_speed(h36m_root):
+    channels = h36m.read_expmap(h36m_root / "S5" / "walking_1.txt")[:400]
+    joints = h36m.forward_kinematics(channels)
+    # Rigid bones keep their offsets' lengths (hip width, thigh); the spine flexes a little.
+    assert np.allclose(np.linalg.norm(joints[:, 6] - joints[:, 1], axis=1), 0.265897, atol=1e-6)
+    assert np.allclose(np.linalg.norm(joints[:, 2] - joints[:, 1], axis=1), 0.442895, atol=1e-6)
+    assert np.allclose(np.linalg.norm(joints[:, 13] - joints[:, 0], axis=1), 0.485, atol=0.01)
+    # 14.4 mm per 50 Hz frame = 0.72 m/s; the subject's left x up points where it walks.
+    velocity = np.gradient(joints[:, 0], axis=0) * h36m.FILE_RATE_HZ
+    speed = np.linalg.norm(velocity, axis=1)
+    assert 0.6 < speed.mean() < 0.85
+    gravity = h36m.estimate_gravity(
+        h36m.forward_kinematics(h36m.read_expmap(h36m_root / "S5" / "walking_1.txt"))
+    )
+    facing = np.cross(joints[:, 6] - joints[:, 1], gravity.up)
+    moving = speed > 0.3
+    assert ((facing * velocity).sum(axis=1)[moving] > 0).mean() > 0.95
+
+
+def test_gravity_uses_the_floor_when_walking_and_the_spine_when_seated(h36m_root):
+    walking = h36m.estimate_gravity(
+        h36m.forward_kinematics(h36m.read_expmap(h36m_root / "S5" / "walking_1.txt"))
+    )
+    assert walking.rule == "floor"
+    assert walking.tilt_deg == pytest.approx(9.0, abs=0.3)  # measured in SKELETON.md
+    sitting = h36m.estimate_gravity(
+        h36m.forward_kinematics(h36m.read_expmap(h36m_root / "S5" / "sitting_1.txt"))
+    )
+    assert sitting.rule == "spine" and sitting.floor_spine_angle_deg > 60.0
+
+
+def test_sequence_is_25_hz_upright_and_every_frame_has_a_plane(h36m_root):
+    seq = h36m.load_sequence(h36m_root, 5, "walking", 2)
+    assert len(seq.poses) == 1261  # ceil(2521 / 2), the T2 of SKELETON.md
+    assert (seq.status == tc.PlaneStatus.OK).all()
+    assert 80.0 < np.degrees(np.median(seq.poses[:, 4])) < 100.0
+    # Walking turns: the unwrapped azimuth changes smoothly (no 180-degree sign flips).
+    assert np.abs(np.diff(seq.poses[:, 3])).max() < np.radians(20.0)
+
+
+def test_const_baseline_reproduces_the_reference_figures(h36m_root):
+    # The data README's reference Const computation (dense, every 10th start, all S5 files,
+    # window-mean error, pooled over windows).
+    report = evaluate(h36m_root, [5], "dense", 10, {"const": tc.ForecasterConfig("const")})
+    assert report["windows"]["total"] == 3150 and report["windows"]["skipped"] == 0
+    pooled = report["results"]["const"]["pooled"]
+    azimuth = [pooled["azimuth"]["mean"][h] for h in ("10", "25", "50")]
+    elevation = [pooled["elevation"]["mean"][h] for h in ("10", "25", "50")]
+    assert azimuth == pytest.approx([6.05, 12.08, 20.30], abs=0.02)
+    assert elevation == pytest.approx([3.69, 6.64, 9.59], abs=0.02)
+
+
+def test_eval_cli_writes_every_method_in_every_format(h36m_root, tmp_path, capsys):
+    assert (
+        main(["eval", "h36m", "--data", str(h36m_root), "--protocol", "seeds", "--out", str(tmp_path)]) == 0
+    )
+    printed = capsys.readouterr().out
+    assert "Table 5.4" in printed and "(7.36)" in printed
+    report = json.loads((tmp_path / "report.json").read_text())
+    assert set(report["results"]) == set(method_configs())
+    # 11 actions have both subactions in S5: 8 windows each.
+    assert report["windows"]["total"] == 88
+    assert set(report["categories"]) == {"Pedestrian", "Constrained", "High Variance", "All"}
+    lines = (tmp_path / "report.csv").read_text().splitlines()
+    groups = 11 + 4 + 1
+    assert len(lines) == 1 + len(method_configs()) * groups * 3 * 2 * 3
+    pngs = sorted(p.name for p in tmp_path.glob("*.png"))
+    assert pngs == [
+        f"error_vs_horizon_{c}.png" for c in ("all", "constrained", "high_variance", "pedestrian")
+    ]
+
+
+def test_eval_cli_refuses_a_folder_without_data(tmp_path, capsys):
+    assert main(["eval", "h36m", "--data", str(tmp_path), "--out", str(tmp_path / "out")]) == 2
+    assert "no Human3.6M files" in capsys.readouterr().err
