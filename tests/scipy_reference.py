@@ -73,6 +73,10 @@ def lowpass(x: np.ndarray, mode: str, order: int, cutoff_hz: float, rate_hz: flo
     return signal.sosfiltfilt(sos, x, padlen=padlen)
 
 
+#: The time constants of torso_core's Extrapolation::DAMPED_H36M_S1, written out independently.
+DAMPING_H36M_S1 = (1.5, 1.5, 1.5, 0.5, 0.1)
+
+
 def forecast(history, horizons, weights=None, **cfg) -> np.ndarray:
     """Forecast (len(horizons), 5) from a (T, 5) history on a grid at cfg['rate_hz']."""
     history = np.array(history, dtype=float)
@@ -110,8 +114,20 @@ def forecast(history, horizons, weights=None, **cfg) -> np.ndarray:
             )
         spline = smoothing_spline(x, y, w, lam, degree)
         tau = horizons / step * unit
-        if cfg.get("extrapolation", "polynomial") == "linear" and degree >= 1:
+        rule = cfg.get("extrapolation", "damped")
+        if rule == "linear" and degree >= 1:
             out[:, c] = spline(0.0) + spline.derivative()(0.0) * tau
+        elif rule == "damped" and degree >= 1:
+            # Slope per second, carried T (1 - exp(-h / T)) seconds.
+            T = cfg.get("damping") or DAMPING_H36M_S1
+            carry = (
+                horizons
+                if np.isinf(T[c])
+                else T[c] * -np.expm1(-horizons / T[c])
+                if T[c] > 0
+                else 0.0 * horizons
+            )
+            out[:, c] = spline(0.0) + spline.derivative()(0.0) * unit / step * carry
         else:
             out[:, c] = spline(tau, extrapolate=True)
     return out

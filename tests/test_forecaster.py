@@ -14,9 +14,18 @@ HORIZONS = [0.0, 0.04, 0.4, 1.0, 2.0]
 SPLINE_CASES = [
     dict(filter=f, degree=d, lambda_unit=u, extrapolation=e, lam=lam)
     for f, d, u, e, lam in itertools.product(
-        ["off", "causal", "zero_phase"], [0, 1, 2, 3], ["samples", "seconds"], ["polynomial", "linear"], [0.5]
+        ["off", "causal", "zero_phase"],
+        [0, 1, 2, 3],
+        ["samples", "seconds"],
+        ["polynomial", "linear", "damped"],
+        [0.5],
     )
-] + [dict(), dict(degree=3, lam=0.01, filter_components=[True] * 5), dict(degree=4, lam=3.0)]
+] + [
+    dict(),
+    dict(degree=3, lam=0.01, filter_components=[True] * 5),
+    dict(degree=4, lam=3.0),
+    dict(extrapolation="damped", damping=(0.0, 0.2, float("inf"), 3.0, 0.7)),
+]
 BASELINES = [
     dict(method="const"),
     dict(method="constant_velocity"),
@@ -70,7 +79,7 @@ def test_azimuth_is_unwrapped_and_forecast_continuously():
     hist = np.zeros((50, 5))
     hist[:, 3] = np.angle(np.exp(1j * (3.0 + 2.0 * t)))  # crosses +-pi at t ~ 0.07
     hist[:, 4] = np.pi / 2
-    out = run(dict(filter="off"), t, hist)
+    out = run(dict(filter="off", extrapolation="linear"), t, hist)
     np.testing.assert_allclose(out[:, 3], 3.0 + 2.0 * (t[-1] + np.array(HORIZONS)), atol=1e-9)
     np.testing.assert_allclose(tc.wrap_angle(out[:, 3]), np.angle(np.exp(1j * out[:, 3])))
 
@@ -148,11 +157,20 @@ def test_bad_input_raises_typed_errors_and_keeps_state():
         (dict(max_gap=float("nan")), "max_gap"),
         (dict(method="constant_velocity", velocity_window=0.0), "window"),
         (dict(lambda_unit="frames"), "lambda_unit"),
+        (dict(extrapolation="damped", damping=(1.0, 1.0, -1.0, 1.0, 1.0)), "time_constants"),
+        (dict(extrapolation="linear", damping=(1.0,) * 5), "extrapolation"),
     ],
 )
 def test_config_errors_name_the_argument(kwargs, name):
     with pytest.raises(tc.InvalidArgumentError, match=name):
         tc.ForecasterConfig(**kwargs)
+
+
+def test_damped_config_reports_its_time_constants():
+    assert tc.ForecasterConfig(extrapolation="damped").damping == list(ref.DAMPING_H36M_S1)
+    config = tc.ForecasterConfig(extrapolation="damped", damping=(1, 2, 3, 4, 5))
+    assert config.damping == [1.0, 2.0, 3.0, 4.0, 5.0] and "damping=(1, 2, 3, 4, 5)" in repr(config)
+    assert tc.ForecasterConfig(extrapolation="linear").damping is None
 
 
 def test_config_round_trips_through_the_forecaster():

@@ -117,3 +117,14 @@ def test_eval_cli_writes_every_method_in_every_format(h36m_root, tmp_path, capsy
 def test_eval_cli_refuses_a_folder_without_data(tmp_path, capsys):
     assert main(["eval", "h36m", "--data", str(tmp_path), "--out", str(tmp_path / "out")]) == 2
     assert "no Human3.6M files" in capsys.readouterr().err
+
+
+def test_default_damping_is_what_selection_on_s1_picks(h36m_root):
+    if not (h36m_root / "S1").is_dir():
+        pytest.skip("S1 files not found")
+    from torsocast.evaluation.damping import select
+
+    best = select(h36m_root, [1])
+    chosen = {q: t for q, (t, _) in best.items()}
+    assert chosen == {"position": 1.5, "azimuth": 0.5, "elevation": 0.1}
+    assert tc.ForecasterConfig().damping == [1.5, 1.5, 1.5, 0.5, 0.1]

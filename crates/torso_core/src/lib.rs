@@ -21,9 +21,11 @@
 //! }
 //! let mut out = [[0.0; 5]; 2];
 //! f.forecast(&[0.4, 1.0], &mut out).unwrap();
-//! assert!((out[1][0] - 2.96).abs() < 1e-6); // x one second after t = 1.96 s
-//! // Azimuth keeps turning; the zero-phase filter's end transient costs about 3e-4 rad here.
-//! assert!((out[1][3] - 1.48).abs() < 1e-3);
+//! // The default continues the fit as a damped trend: 1 m/s decaying with 1.5 s carries
+//! // 1.5 (1 - e^(-1/1.5)) m in one second; the turn decays with 0.5 s.
+//! assert!((out[1][0] - (1.96 + 1.5 * (1.0 - (-1.0f64 / 1.5).exp()))).abs() < 1e-6);
+//! // The zero-phase filter's end transient costs about 3e-4 rad of azimuth here.
+//! assert!((out[1][3] - (0.98 + 0.25 * (1.0 - (-2.0f64).exp()))).abs() < 1e-3);
 //! ```
 
 // `!(x > y)` is how this crate rejects NaN along with out-of-range values: keep it.

@@ -51,7 +51,11 @@ fn every_forecaster_kind() -> Vec<(String, ForecasterConfig)> {
     for filter in [FilterMode::Off, FilterMode::Causal, FilterMode::ZeroPhase] {
         for degree in 0..=bspline::MAX_DEGREE {
             for fast_path in [true, false] {
-                for extrapolation in [Extrapolation::Polynomial, Extrapolation::Linear] {
+                for extrapolation in [
+                    Extrapolation::Polynomial,
+                    Extrapolation::Linear,
+                    Extrapolation::DAMPED_H36M_S1,
+                ] {
                     let spline = FilterSplineConfig {
                         filter,
                         degree,

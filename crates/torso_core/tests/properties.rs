@@ -106,7 +106,13 @@ proptest! {
             p
         };
         let wrapped = |mut p: Pose| { p[AZIMUTH] = p[AZIMUTH].sin().atan2(p[AZIMUTH].cos()); p };
-        let spline = FilterSplineConfig { degree, filter: FilterMode::Off, ..FilterSplineConfig::default() };
+        // The polynomial rule continues a linear signal exactly; the damped default bends it.
+        let spline = FilterSplineConfig {
+            degree,
+            filter: FilterMode::Off,
+            extrapolation: Extrapolation::Polynomial,
+            ..FilterSplineConfig::default()
+        };
         for config in [
             ForecasterConfig::constant_velocity(None),
             ForecasterConfig::constant_velocity(Some(0.4)),
@@ -137,7 +143,11 @@ proptest! {
         degree in 0usize..=4,
         filter in prop::sample::select(vec![FilterMode::Off, FilterMode::Causal, FilterMode::ZeroPhase]),
         seconds in any::<bool>(),
-        linear in any::<bool>(),
+        rule in prop::sample::select(vec![
+            Extrapolation::Polynomial,
+            Extrapolation::Linear,
+            Extrapolation::DAMPED_H36M_S1,
+        ]),
         lam in 0.01f64..10.0,
     ) {
         let spline = FilterSplineConfig {
@@ -145,7 +155,7 @@ proptest! {
             degree,
             lam,
             lambda_unit: if seconds { LambdaUnit::Seconds } else { LambdaUnit::Samples },
-            extrapolation: if linear { Extrapolation::Linear } else { Extrapolation::Polynomial },
+            extrapolation: rule,
             filter_components: [true, false, true, true, true],
             ..FilterSplineConfig::default()
         };
@@ -178,4 +188,80 @@ proptest! {
             }
         }
     }
+}
+
+/// A damped trend is the tangent (Linear) with its slope term scaled by `T (1 - e^{-τ/T})`:
+/// checked against the Linear forecaster's own value and slope, for T = 0, finite and ∞.
+#[test]
+fn damped_extrapolation_scales_the_tangent() {
+    let with = |extrapolation| {
+        let mut f = Forecaster::new(ForecasterConfig {
+            method: Method::FilterSpline(FilterSplineConfig {
+                degree: 2,
+                extrapolation,
+                ..FilterSplineConfig::default()
+            }),
+            ..ForecasterConfig::default()
+        })
+        .unwrap();
+        for k in 0..50 {
+            let t = k as f64 * 0.04;
+            let pose = [
+                0.9 * t,
+                t.sin(),
+                1.0 + 0.1 * t * t,
+                2.0 + 1.3 * t,
+                1.5 - 0.2 * t,
+            ];
+            f.update(pose, t, 1.0 + 0.3 * (k % 4) as f64).unwrap();
+        }
+        f
+    };
+    let horizons = [0.0, 0.4, 1.0, 2.0];
+    let mut linear = [[0.0; 5]; 4];
+    with(Extrapolation::Linear)
+        .forecast(&horizons, &mut linear)
+        .unwrap();
+    let constants = [0.0, 0.3, 1.5, f64::INFINITY, 0.1];
+    let mut damped = [[0.0; 5]; 4];
+    with(Extrapolation::Damped {
+        time_constants: constants,
+    })
+    .forecast(&horizons, &mut damped)
+    .unwrap();
+    for (h, &tau) in horizons.iter().enumerate().skip(1) {
+        for c in 0..5 {
+            let slope = (linear[h][c] - linear[0][c]) / tau;
+            let t = constants[c];
+            let carry = if t == 0.0 {
+                0.0
+            } else if t.is_infinite() {
+                tau
+            } else {
+                t * (1.0 - (-tau / t).exp())
+            };
+            let expected = linear[0][c] + slope * carry;
+            assert!(
+                (damped[h][c] - expected).abs() < 1e-9,
+                "component {c} at {tau} s: {} vs {expected}",
+                damped[h][c]
+            );
+        }
+    }
+    let bad = Extrapolation::Damped {
+        time_constants: [0.0, -1.0, 0.0, 0.0, 0.0],
+    };
+    assert!(matches!(
+        Forecaster::new(ForecasterConfig {
+            method: Method::FilterSpline(FilterSplineConfig {
+                extrapolation: bad,
+                ..FilterSplineConfig::default()
+            }),
+            ..ForecasterConfig::default()
+        }),
+        Err(Error::InvalidArgument {
+            name: "time_constants",
+            ..
+        })
+    ));
 }

@@ -39,10 +39,34 @@ const UNITS: [(&str, LambdaUnit); 2] = [
     ("samples", LambdaUnit::Samples),
     ("seconds", LambdaUnit::Seconds),
 ];
-const RULES: [(&str, Extrapolation); 2] = [
+const RULES: [(&str, Extrapolation); 3] = [
     ("polynomial", Extrapolation::Polynomial),
     ("linear", Extrapolation::Linear),
+    ("damped", Extrapolation::DAMPED_H36M_S1),
 ];
+
+fn rule_name(rule: Extrapolation) -> &'static str {
+    match rule {
+        Extrapolation::Polynomial => "polynomial",
+        Extrapolation::Linear => "linear",
+        Extrapolation::Damped { .. } => "damped",
+    }
+}
+
+/// The extrapolation rule, with `damping` (time constants) only where the rule is "damped".
+fn parse_rule(name: &str, damping: Option<[f64; 5]>) -> PyResult<Extrapolation> {
+    match (parse("extrapolation", name, &RULES)?, damping) {
+        (Extrapolation::Damped { .. }, Some(time_constants)) => {
+            Ok(Extrapolation::Damped { time_constants })
+        }
+        (rule, None) => Ok(rule),
+        (_, Some(_)) => Err(unknown_option(
+            "extrapolation",
+            name,
+            "damped (the only rule that takes `damping`)",
+        )),
+    }
+}
 
 fn name_of<T: PartialEq>(value: T, options: &[(&'static str, T)]) -> &'static str {
     options
@@ -58,7 +82,7 @@ impl ForecasterConfig {
         method="filter_spline", *, rate_hz=25.0, history=2.0, max_gap=0.4, fast_path=true,
         velocity_window=None, filter="zero_phase", filter_order=2, cutoff_hz=5.0,
         filter_components=[false, false, false, true, true], degree=1, lam=1.0,
-        lambda_unit="samples", extrapolation="polynomial"
+        lambda_unit="samples", extrapolation="damped", damping=None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn new(
@@ -76,6 +100,7 @@ impl ForecasterConfig {
         lam: f64,
         lambda_unit: &str,
         extrapolation: &str,
+        damping: Option<[f64; 5]>,
     ) -> PyResult<Self> {
         let spline = FilterSplineConfig {
             filter: parse("filter", filter, &FILTERS)?,
@@ -85,7 +110,7 @@ impl ForecasterConfig {
             degree,
             lam,
             lambda_unit: parse("lambda_unit", lambda_unit, &UNITS)?,
-            extrapolation: parse("extrapolation", extrapolation, &RULES)?,
+            extrapolation: parse_rule(extrapolation, damping)?,
         };
         let method = match method {
             "filter_spline" => Method::FilterSpline(spline),
@@ -174,7 +199,15 @@ impl ForecasterConfig {
     }
     #[getter]
     fn extrapolation(&self) -> &'static str {
-        name_of(self.spline.extrapolation, &RULES)
+        rule_name(self.spline.extrapolation)
+    }
+    /// Time constants (s) of the damped trend per component; None for the other rules.
+    #[getter]
+    fn damping(&self) -> Option<[f64; 5]> {
+        match self.spline.extrapolation {
+            Extrapolation::Damped { time_constants } => Some(time_constants),
+            _ => None,
+        }
     }
     /// Samples in a full history.
     #[getter]
@@ -201,14 +234,21 @@ impl ForecasterConfig {
                 window.map_or("None".to_string(), |w| w.to_string())
             ),
             Method::FilterSpline(s) => format!(
-                "ForecasterConfig('filter_spline', {grid}, filter='{}', filter_order={}, cutoff_hz={}, degree={}, lam={}, lambda_unit='{}', extrapolation='{}')",
+                "ForecasterConfig('filter_spline', {grid}, filter='{}', filter_order={}, cutoff_hz={}, degree={}, lam={}, lambda_unit='{}', extrapolation='{}'{})",
                 name_of(s.filter, &FILTERS),
                 s.filter_order,
                 s.cutoff_hz,
                 s.degree,
                 s.lam,
                 name_of(s.lambda_unit, &UNITS),
-                name_of(s.extrapolation, &RULES)
+                rule_name(s.extrapolation),
+                match s.extrapolation {
+                    Extrapolation::Damped { time_constants: t } => format!(
+                        ", damping=({}, {}, {}, {}, {})",
+                        t[0], t[1], t[2], t[3], t[4]
+                    ),
+                    _ => String::new(),
+                }
             ),
         }
     }

@@ -1,5 +1,6 @@
 """The forecasters an evaluation compares, by name: the thesis' baselines, its filter + spline
-family in every variant the thesis leaves open, and torsocast's default."""
+family in every variant the thesis leaves open (each continuing its last polynomial piece, as the
+thesis does), and torsocast's default (the N = 1 fit continued as a damped trend)."""
 
 from __future__ import annotations
 
@@ -18,7 +19,10 @@ def method_configs() -> dict[str, ForecasterConfig]:
     }
     for filt in FILTERS:
         for degree in DEGREES:
-            methods[f"{filt}_n{degree}"] = ForecasterConfig(filter=filt, degree=degree)
+            methods[f"{filt}_n{degree}"] = ForecasterConfig(
+                filter=filt, degree=degree, extrapolation="polynomial"
+            )
+    # Beyond the thesis: the default, the N = 1 fit with a damped trend chosen on S1.
     methods["default"] = ForecasterConfig()
     return methods
 
@@ -27,7 +31,7 @@ LABELS = {
     "const": "Const",
     "cvel_2s": "CVel (2s)",
     "cvel_0.4s": "CVel (0.4s)",
-    "default": "torsocast default",
+    "default": "torsocast default (N = 1, damped trend)",
     **{f"{f}_n{d}": f"N = {d}, {f.replace('_', '-')} filter" for f in FILTERS for d in DEGREES},
 }
 for _d in DEGREES:
