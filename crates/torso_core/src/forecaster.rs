@@ -454,7 +454,8 @@ impl SplineEngine {
     }
 
     /// Runs the general path on each unit vector `e_j` of a full, uniformly weighted history:
-    /// column `j` of the linear map, once unfiltered and once filtered.
+    /// column `j` of the linear map, once unfiltered and once filtered. The weights are the same
+    /// for every `e_j`, so the end-derivative map is built once.
     fn precompute_maps(&mut self, capacity: usize) -> Result<[Vec<f64>; 2]> {
         let order = self.cfg.degree;
         let mut maps = [
@@ -463,11 +464,13 @@ impl SplineEngine {
         ];
         let mut d: Derivatives = [[0.0; MAX_DEGREE + 1]; 5];
         self.weights[..capacity].fill(1.0);
+        self.build_end_map(capacity)?;
         for j in 0..capacity {
             self.values[..2 * capacity].fill(0.0);
             self.values[j] = 1.0;
             self.values[capacity + j] = 1.0;
-            self.solve_window(capacity, &[false, true], &mut d)?;
+            self.filter_window(capacity, &[false, true])?;
+            self.apply_end_map(capacity, 2, &mut d);
             for (kind, map) in maps.iter_mut().enumerate() {
                 for k in 0..=order {
                     map[k * capacity + j] = d[kind][k];
@@ -519,7 +522,14 @@ impl SplineEngine {
     /// Filter (where `filtered[c]`), fit and differentiate the first `filtered.len()` components
     /// of `self.values` (`n` samples each) with `self.weights`.
     fn solve_window(&mut self, n: usize, filtered: &[bool], d: &mut Derivatives) -> Result<()> {
-        let k = filtered.len();
+        self.filter_window(n, filtered)?;
+        self.build_end_map(n)?;
+        self.apply_end_map(n, filtered.len(), d);
+        Ok(())
+    }
+
+    /// `self.smoothed` from `self.values`: filtered where `filtered[c]`, copied otherwise.
+    fn filter_window(&mut self, n: usize, filtered: &[bool]) -> Result<()> {
         for (c, &on) in filtered.iter().enumerate() {
             let (x, y) = (
                 &self.values[c * n..(c + 1) * n],
@@ -534,6 +544,11 @@ impl SplineEngine {
                 _ => y.copy_from_slice(x),
             }
         }
+        Ok(())
+    }
+
+    /// `self.end_map` for `n` samples weighted by `self.weights`.
+    fn build_end_map(&mut self, n: usize) -> Result<()> {
         if self.spline.sample_count() != n {
             for (i, a) in self.abscissae[..n].iter_mut().enumerate() {
                 *a = (i as f64 - (n - 1) as f64) * self.abscissa_step;
@@ -542,7 +557,12 @@ impl SplineEngine {
         }
         let map = &mut self.end_map[..(self.cfg.degree + 1) * n];
         self.spline
-            .end_derivative_map(&self.weights[..n], self.cfg.lam, map)?;
+            .end_derivative_map(&self.weights[..n], self.cfg.lam, map)
+    }
+
+    /// Derivatives in seconds of the first `k` smoothed components through `self.end_map`.
+    fn apply_end_map(&self, n: usize, k: usize, d: &mut Derivatives) {
+        let map = &self.end_map[..(self.cfg.degree + 1) * n];
         for (c, y) in self.smoothed[..k * n].chunks_exact(n).enumerate() {
             // d/dt = (units per second) · d/du, once per order of differentiation.
             let mut scale = 1.0;
@@ -551,7 +571,6 @@ impl SplineEngine {
                 scale *= self.units_per_second;
             }
         }
-        Ok(())
     }
 }
 

@@ -167,10 +167,7 @@ impl SmoothingSpline {
         check_len("map", map.len(), (p + 1) * n)?;
         self.factor_normal_matrix(weights, lam)?;
         let m = self.coefficient_count();
-        let knots = &self.knots[..bspline::knot_count(n, p)];
-        let span = bspline::last_span(knots, p);
-        let mut ders = [[0.0; MAX_DEGREE + 1]; MAX_DEGREE + 1];
-        bspline::basis_derivatives(knots, p, span, self.end_abscissa(), p, &mut ders);
+        let (span, ders) = self.end_basis();
         let solved = &mut self.solved[..(p + 1) * m];
         solved.fill(0.0);
         for (k, u) in solved.chunks_exact_mut(m).enumerate() {
@@ -227,11 +224,17 @@ impl SmoothingSpline {
         banded::factor(band, m, p)
     }
 
-    /// The abscissa of the last sample, where the forecast's polynomial continuation starts.
-    fn end_abscissa(&self) -> f64 {
-        let knots = self.knots();
+    /// The last knot span and the basis derivatives of orders `0..=N` at the last sample, where
+    /// the forecast's polynomial continuation starts: `ders[k][j]` belongs to coefficient
+    /// `span - N + j`.
+    fn end_basis(&self) -> (usize, [[f64; MAX_DEGREE + 1]; MAX_DEGREE + 1]) {
+        let (p, knots) = (self.degree, self.knots());
+        let span = bspline::last_span(knots, p);
         // Degree 0 carries one knot past the last sample; every other degree ends on it.
-        knots[knots.len() - if self.degree == 0 { 2 } else { 1 }]
+        let t_end = knots[knots.len() - if p == 0 { 2 } else { 1 }];
+        let mut ders = [[0.0; MAX_DEGREE + 1]; MAX_DEGREE + 1];
+        bspline::basis_derivatives(knots, p, span, t_end, p, &mut ders);
+        (span, ders)
     }
 
     /// Value of the fitted spline at `t` (polynomial continuation outside the samples).
@@ -243,11 +246,7 @@ impl SmoothingSpline {
     /// sample: with them, `f(x_last + τ) = Σ_k f^(k) τ^k / k!` is the polynomial continuation.
     pub fn end_derivatives(&self, coeffs: &[f64], out: &mut [f64; MAX_DEGREE + 1]) {
         let p = self.degree;
-        let knots = self.knots();
-        let span = bspline::last_span(knots, p);
-        let t_end = self.end_abscissa();
-        let mut ders = [[0.0; MAX_DEGREE + 1]; MAX_DEGREE + 1];
-        bspline::basis_derivatives(knots, p, span, t_end, p, &mut ders);
+        let (span, ders) = self.end_basis();
         out.fill(0.0);
         for (k, o) in out.iter_mut().enumerate().take(p + 1) {
             *o = (0..=p).map(|j| coeffs[span - p + j] * ders[k][j]).sum();

@@ -45,14 +45,6 @@ const RULES: [(&str, Extrapolation); 3] = [
     ("damped", Extrapolation::DAMPED_H36M_S1),
 ];
 
-fn rule_name(rule: Extrapolation) -> &'static str {
-    match rule {
-        Extrapolation::Polynomial => "polynomial",
-        Extrapolation::Linear => "linear",
-        Extrapolation::Damped { .. } => "damped",
-    }
-}
-
 /// The extrapolation rule, with `damping` (time constants) only where the rule is "damped".
 fn parse_rule(name: &str, damping: Option<[f64; 5]>) -> PyResult<Extrapolation> {
     match (parse("extrapolation", name, &RULES)?, damping) {
@@ -68,10 +60,12 @@ fn parse_rule(name: &str, damping: Option<[f64; 5]>) -> PyResult<Extrapolation> 
     }
 }
 
-fn name_of<T: PartialEq>(value: T, options: &[(&'static str, T)]) -> &'static str {
+/// The option's name, matched by variant only: a damped rule with any time constants is "damped".
+fn name_of<T>(value: T, options: &[(&'static str, T)]) -> &'static str {
+    let variant = std::mem::discriminant(&value);
     options
         .iter()
-        .find(|(_, v)| *v == value)
+        .find(|(_, v)| std::mem::discriminant(v) == variant)
         .map_or("?", |(k, _)| k)
 }
 
@@ -199,7 +193,7 @@ impl ForecasterConfig {
     }
     #[getter]
     fn extrapolation(&self) -> &'static str {
-        rule_name(self.spline.extrapolation)
+        name_of(self.spline.extrapolation, &RULES)
     }
     /// Time constants (s) of the damped trend per component; None for the other rules.
     #[getter]
@@ -241,7 +235,7 @@ impl ForecasterConfig {
                 s.degree,
                 s.lam,
                 name_of(s.lambda_unit, &UNITS),
-                rule_name(s.extrapolation),
+                name_of(s.extrapolation, &RULES),
                 match s.extrapolation {
                     Extrapolation::Damped { time_constants: t } => format!(
                         ", damping=({}, {}, {}, {}, {})",
