@@ -71,6 +71,14 @@ def test_gravity_uses_the_floor_when_walking_and_the_spine_when_seated(h36m_root
         h36m.forward_kinematics(h36m.read_expmap(h36m_root / "S5" / "sitting_1.txt"))
     )
     assert sitting.rule == "spine" and sitting.floor_spine_angle_deg > 60.0
+    # The forced rules the sweeps use; the floor of a seated sequence fails the sanity check.
+    joints = h36m.forward_kinematics(h36m.read_expmap(h36m_root / "S5" / "sitting_1.txt"))
+    assert np.allclose(h36m.estimate_gravity(joints, "spine").up, sitting.up)
+    assert h36m.estimate_gravity(joints, "y").tilt_deg == 0.0
+    with pytest.raises(ValueError, match="degrees from the data's"):
+        h36m.estimate_gravity(joints, "floor")
+    with pytest.raises(ValueError, match="not one of"):
+        h36m.estimate_gravity(joints, "gravity")
 
 
 def test_sequence_is_25_hz_upright_and_every_frame_has_a_plane(h36m_root):
@@ -128,3 +136,21 @@ def test_default_damping_is_what_selection_on_s1_picks(h36m_root):
     chosen = {q: t for q, (t, _) in best.items()}
     assert chosen == {"position": 1.5, "azimuth": 0.5, "elevation": 0.1}
     assert tc.ForecasterConfig().damping == [1.5, 1.5, 1.5, 0.5, 0.1]
+
+
+def test_column_correlations_match_scipy(h36m_root):
+    from scipy.stats import pearsonr, spearmanr
+
+    from torsocast.evaluation import thesis
+    from torsocast.evaluation.sweeps import column_correlations
+
+    report = evaluate(h36m_root, [5], "dense", 20, {"const": tc.ForecasterConfig("const")})
+    got = column_correlations(report)
+    actions = report["results"]["const"]["actions"]
+    for quantity in ("azimuth", "elevation"):
+        names = [a for a in actions if a in thesis.TABLE_5_4[quantity]]
+        ours = [actions[a][quantity]["mean"]["10"] for a in names]
+        for i, column in enumerate(thesis.TABLE_5_4_COLUMNS):
+            theirs = [thesis.TABLE_5_4[quantity][a][i] for a in names]
+            assert got[quantity][column][0] == pytest.approx(pearsonr(ours, theirs)[0], abs=1e-12)
+            assert got[quantity][column][1] == pytest.approx(spearmanr(ours, theirs)[0], abs=1e-12)

@@ -200,22 +200,32 @@ class Gravity:
     """Angle between ``up`` and the data's +y, the sanity check (measured 3 to 22 degrees)."""
 
 
-def estimate_gravity(joints: F64) -> Gravity:
+#: The rules :func:`estimate_gravity` knows; ``"auto"`` is the default, the others are there to
+#: measure what the choice changes (``docs/reproduction.md``).
+GRAVITY_RULES = ("auto", "floor", "spine", "y")
+
+
+def estimate_gravity(joints: F64, rule: str = "auto") -> Gravity:
     """Up axis of a sequence of ``(frames, 32, 3)`` joints.
 
     The floor normal (least-squares plane through every toe position of the sequence) is the
     better estimate when the feet move over the floor; it is meaningless when they do not (a seated
     subject's toes barely move). The mean pelvis-to-thorax direction is always defined but leans
-    with the subject's posture. So the floor is used only where it agrees with the spine within
-    :data:`MAX_FLOOR_SPINE_ANGLE_DEG`, and the result must lie within :data:`MAX_TILT_DEG` of +y.
+    with the subject's posture. So ``"auto"`` uses the floor only where it agrees with the spine
+    within :data:`MAX_FLOOR_SPINE_ANGLE_DEG`, and the result must lie within :data:`MAX_TILT_DEG`
+    of +y. ``"floor"`` and ``"spine"`` force one estimate, ``"y"`` takes the data's +y as it is.
     """
+    if rule not in GRAVITY_RULES:
+        raise ValueError(f"gravity rule {rule!r} is not one of {GRAVITY_RULES}")
     spine = (joints[:, THORAX] - joints[:, PELVIS]).mean(axis=0)
     spine /= np.linalg.norm(spine)
     toes = joints[:, TOE_JOINTS].reshape(-1, 3)
     _, _, vt = np.linalg.svd(toes - toes.mean(axis=0), full_matrices=False)
     floor = vt[2] * np.sign(vt[2] @ spine)
     angle = float(np.degrees(np.arccos(np.clip(floor @ spine, -1.0, 1.0))))
-    up, rule = (floor, "floor") if angle <= MAX_FLOOR_SPINE_ANGLE_DEG else (spine, "spine")
+    if rule == "auto":
+        rule = "floor" if angle <= MAX_FLOOR_SPINE_ANGLE_DEG else "spine"
+    up = {"floor": floor, "spine": spine, "y": np.array([0.0, 1.0, 0.0])}[rule]
     tilt = float(np.degrees(np.arccos(np.clip(up[1], -1.0, 1.0))))
     if tilt > MAX_TILT_DEG:
         raise ValueError(
@@ -284,6 +294,7 @@ def load_sequence(
     action: str,
     subaction: int,
     torso_joints: Mapping[int, str] = TORSO_JOINTS,
+    gravity_rule: str = "auto",
 ) -> Sequence:
     """Reads one file and returns its torso pose series at 25 Hz (even rows of the 50 Hz file, as
     the literature does; the root is integrated at 50 Hz first, since its columns are increments)."""
@@ -291,7 +302,7 @@ def load_sequence(
     if not path.is_file():
         raise FileNotFoundError(f"{path}: no such Human3.6M file")
     joints = forward_kinematics(read_expmap(path))
-    gravity = estimate_gravity(joints)
+    gravity = estimate_gravity(joints, gravity_rule)
     poses, status = torso_poses(joints[::2], gravity.up, torso_joints)
     return Sequence(subject, action, subaction, poses, status, gravity)
 

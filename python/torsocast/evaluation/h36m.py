@@ -25,14 +25,21 @@ STEPS = protocol.FUTURE
 Progress = Callable[[str], None]
 
 
-def load(data: str | Path, subjects: Sequence[int], progress: Progress | None = None) -> list[h36m.Sequence]:
-    """Every available file of the subjects as a pose series."""
+def load(
+    data: str | Path,
+    subjects: Sequence[int],
+    progress: Progress | None = None,
+    torso_joints: Mapping[int, str] = h36m.TORSO_JOINTS,
+    gravity_rule: str = "auto",
+) -> list[h36m.Sequence]:
+    """Every available file of the subjects as a pose series (plane joints and gravity rule as
+    :func:`torsocast.datasets.h36m.load_sequence` takes them)."""
     pairs = [(s, a, sub) for s in subjects for a, sub in h36m.available(data, s)]
     if not pairs:
         raise FileNotFoundError(f"no Human3.6M files for subjects {list(subjects)} under {data}")
     sequences = []
     for subject, action, sub in pairs:
-        sequences.append(h36m.load_sequence(data, subject, action, sub))
+        sequences.append(h36m.load_sequence(data, subject, action, sub, torso_joints, gravity_rule))
         if progress:
             progress(sequences[-1].name)
     return sequences
@@ -76,11 +83,13 @@ def evaluate(
     every: int = 10,
     methods: Mapping[str, ForecasterConfig] | None = None,
     progress: Progress | None = None,
+    torso_joints: Mapping[int, str] = h36m.TORSO_JOINTS,
+    gravity_rule: str = "auto",
 ) -> dict[str, Any]:
     """Runs every method on the protocol's windows and returns the report as plain data (the JSON
     output holds exactly this)."""
     methods = dict(methods) if methods is not None else method_configs()
-    sequences = load(data, subjects, progress)
+    sequences = load(data, subjects, progress, torso_joints, gravity_rule)
     windows = protocol.select(sequences, protocol_name, every)
     if len(windows) == 0:
         raise ValueError(f"protocol {protocol_name!r} found no windows in {len(sequences)} sequences")
@@ -117,6 +126,7 @@ def evaluate(
             "per_action": {a: int((windows.action == a).sum()) for a in action_names},
         },
         "categories": category_members,
+        "torso_joints": {str(j): side for j, side in torso_joints.items()},
         "sequences": [
             {
                 "name": s.name,
