@@ -42,3 +42,25 @@ def h36m_root():
     if not (H36M / "S5").is_dir():
         pytest.skip(f"Human3.6M files not found at {H36M} (research-only data, read from ../shared)")
     return H36M
+
+
+def shared_path(*parts):
+    """A file or folder of ../shared, or a skip that says what is missing and why."""
+    path = SHARED.joinpath(*parts)
+    if not path.exists():
+        pytest.skip(f"{path} not found (shared test data, read from ../shared, never copied)")
+    return path
+
+
+@pytest.fixture(scope="session")
+def yolo640():
+    from torsocast.keypoints import open_model
+
+    return open_model(shared_path("models", "yolo11n-pose.onnx"))
+
+
+@pytest.fixture(scope="session")
+def yolo320():
+    from torsocast.keypoints import open_model
+
+    return open_model(shared_path("models", "yolo11n-pose-320.onnx"))

@@ -1,4 +1,4 @@
-"""Command line: ``torsocast bench``, ``torsocast forecast`` and ``torsocast eval``."""
+"""Command line: ``torsocast run``, ``bench``, ``forecast`` and ``eval``."""
 
 from __future__ import annotations
 
@@ -95,6 +95,30 @@ def _eval_h36m(args: argparse.Namespace) -> int:
     return 0
 
 
+def _run(args: argparse.Namespace) -> int:
+    from .keypoints import open_model
+    from .run import run
+    from .sources import open_source
+
+    try:
+        horizons = [float(h) for h in args.horizons.split(",") if h]
+    except ValueError:
+        print(f"--horizons: expected comma-separated seconds, got {args.horizons!r}", file=sys.stderr)
+        return 2
+    try:
+        source = open_source(args.source, fps=args.fps)
+        model = open_model(args.model, args.family, args.device)
+    except (FileNotFoundError, ValueError, ImportError, RuntimeError) as e:
+        print(f"torsocast run: {e}", file=sys.stderr)
+        return 2
+    summary = run(source, model, args.out, horizons, overlay=args.overlay)
+    print(summary)
+    print(
+        f"wrote {summary.out / 'frames.jsonl'}" + (f" and {summary.out / 'overlay'}/" if args.overlay else "")
+    )
+    return 0
+
+
 def _is_number(text: str) -> bool:
     try:
         float(text)
@@ -107,6 +131,16 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="torsocast", description=__doc__)
     parser.add_argument("--version", action="version", version=__version__)
     sub = parser.add_subparsers(dest="command", required=True)
+    rn = sub.add_parser("run", help="track and forecast every person in an RGB-D source")
+    rn.add_argument("source", help="folder (TUM or NNNN_camera.xml layout), .npz recording, or video")
+    rn.add_argument("--model", help="ONNX keypoint model (default: the bundled MoveNet Lightning)")
+    rn.add_argument("--family", choices=["yolo-pose", "movenet"], help="model family (default: recognised)")
+    rn.add_argument("--device", default="cpu", choices=["cpu", "cuda"])
+    rn.add_argument("--horizons", default="0.4,1.0", help="forecast horizons, seconds, comma-separated")
+    rn.add_argument("--fps", type=float, default=30.0, help="frame rate of sources without time stamps")
+    rn.add_argument("--out", default="out", help="folder for frames.jsonl and overlay/")
+    rn.add_argument("--overlay", action="store_true", help="also draw every frame's result as a JPEG")
+    rn.set_defaults(run=_run)
     bench = sub.add_parser("bench", help="measure forecast latency of every forecaster on this machine")
     bench.add_argument("--windows", type=int, default=2000, help="windows in the batch timing")
     bench.set_defaults(run=_bench)

@@ -1,0 +1,94 @@
+"""JSON Lines output: one object per frame.
+
+Schema ``torsocast.frame/1`` (documented in ``docs/output.md``; a change of meaning bumps the
+number). SI units and radians; azimuths wrapped to (-π, π]; NaN becomes null.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Sequence
+from pathlib import Path
+from typing import IO, Any
+
+import numpy as np
+
+from .pipeline import FrameResult
+
+SCHEMA = "torsocast.frame/1"
+
+
+def _clean(values: Any, digits: int = 4) -> Any:
+    """Nested lists with NaN as None and floats rounded (millimetres, tenths of a milliradian)."""
+    if isinstance(values, np.ndarray):
+        values = values.tolist()
+    if isinstance(values, (list, tuple)):
+        return [_clean(v, digits) for v in values]
+    if isinstance(values, float):
+        return None if not math.isfinite(values) else round(values, digits)
+    return values
+
+
+def record(result: FrameResult, horizons: Sequence[float]) -> dict[str, Any]:
+    """The JSON object of one frame."""
+    det = result.detections
+    people = []
+    for i in range(len(det)):
+        person: dict[str, Any] = {
+            "id": None,
+            "score": _clean(float(det.scores[i])),
+            "box": _clean(det.boxes[i], 1),
+            "keypoints": _clean(det.keypoints[i], 2),
+        }
+        if result.joints is not None:
+            outcome = result.people[i]
+            obs = outcome.observation
+            person["id"] = outcome.track_id
+            person["joints"] = _clean(result.joints[i])
+            if obs is not None:
+                person.update(
+                    centre=_clean(obs.pose[:3]) if obs.pose is not None else None,
+                    azimuth=_clean(float(obs.pose[3])) if obs.pose is not None else None,
+                    elevation=_clean(float(obs.pose[4])) if obs.pose is not None else None,
+                    estimate=obs.estimate,
+                    swapped=obs.swapped,
+                    joint_status=obs.joint_status.tolist(),
+                    weight=_clean(obs.weight),
+                    grid=obs.grid,
+                )
+            ahead = result.forecasts.get(i)
+            person["forecast"] = (
+                None
+                if ahead is None
+                else [{"horizon": h, "pose": _clean(pose)} for h, pose in zip(horizons, ahead)]
+            )
+        people.append(person)
+    return {
+        "schema": SCHEMA,
+        "frame": result.frame.index,
+        "time": _clean(result.frame.time, 6),
+        "people": people,
+    }
+
+
+class JsonLines:
+    """Writes one :func:`record` per line to ``path`` (a context manager)."""
+
+    def __init__(self, path: str | Path, horizons: Sequence[float]) -> None:
+        self.path = Path(path)
+        self.horizons = list(horizons)
+        self.file: IO[str] | None = None
+
+    def __enter__(self) -> JsonLines:
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self.file = self.path.open("w")
+        return self
+
+    def write(self, result: FrameResult) -> None:
+        assert self.file is not None, "use JsonLines as a context manager"
+        self.file.write(json.dumps(record(result, self.horizons), allow_nan=False) + "\n")
+
+    def __exit__(self, *exc: object) -> None:
+        if self.file is not None:
+            self.file.close()

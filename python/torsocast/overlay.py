@@ -1,0 +1,77 @@
+"""Pictures of a frame's result: keypoints and skeleton, the torso normal as an arrow from the
+torso centre, and the forecast heading at the last horizon (dashed), drawn on the colour image."""
+
+from __future__ import annotations
+
+import numpy as np
+from PIL import Image, ImageDraw
+
+from .pipeline import FrameResult
+
+#: Skeleton edges between COCO keypoints.
+EDGES = (
+    (5, 6),
+    (5, 7),
+    (7, 9),
+    (6, 8),
+    (8, 10),
+    (5, 11),
+    (6, 12),
+    (11, 12),
+    (11, 13),
+    (13, 15),
+    (12, 14),
+    (14, 16),
+)
+COLOURS = ((230, 25, 75), (60, 180, 75), (0, 130, 200), (245, 130, 48), (145, 30, 180), (70, 240, 240))
+ARROW = 0.35  # m: length of the drawn normal
+
+
+def _heading(azimuth: float, elevation: float) -> np.ndarray:
+    return np.array(
+        [np.sin(elevation) * np.cos(azimuth), np.sin(elevation) * np.sin(azimuth), np.cos(elevation)]
+    )
+
+
+def _projector(camera):  # type: ignore[no-untyped-def]
+    """World point -> pixel of ``camera``."""
+    world_to_camera = np.linalg.inv(np.asarray(camera.camera_to_world))
+
+    def to_pixel(p: np.ndarray) -> tuple[float, float]:
+        q = world_to_camera[:3, :3] @ p + world_to_camera[:3, 3]
+        return tuple(camera.intrinsics.project(q))  # type: ignore[return-value]
+
+    return to_pixel
+
+
+def draw(result: FrameResult, min_score: float = 0.3) -> Image.Image:
+    """The colour image with every person drawn; a person's colour follows its track id."""
+    image = Image.fromarray(result.frame.color)
+    pen = ImageDraw.Draw(image)
+    camera = result.frame.camera
+    for i, kp in enumerate(result.detections.keypoints):
+        person = result.people[i] if result.people else None
+        track_id = person.track_id if person is not None else None
+        colour = COLOURS[(track_id or 0) % len(COLOURS)] if track_id else (200, 200, 200)
+        for a, b in EDGES:
+            if kp[a, 2] >= min_score and kp[b, 2] >= min_score:
+                pen.line([tuple(kp[a, :2]), tuple(kp[b, :2])], fill=colour, width=3)
+        for u, v, s in kp:
+            if s >= min_score:
+                pen.ellipse([u - 3, v - 3, u + 3, v + 3], fill=colour)
+        obs = person.observation if person is not None else None
+        if camera is None or obs is None or obs.pose is None:
+            continue
+        to_pixel = _projector(camera)
+        centre = obs.pose[:3]
+        start = to_pixel(centre)
+        pen.line([start, to_pixel(centre + ARROW * _heading(obs.pose[3], obs.pose[4]))], fill=colour, width=5)
+        ahead = result.forecasts.get(i)
+        if ahead is not None:
+            end = to_pixel(ahead[-1, :3] + ARROW * _heading(ahead[-1, 3], ahead[-1, 4]))
+            pen.line([to_pixel(ahead[-1, :3]), end], fill=(255, 255, 255), width=2)
+        label = f"#{track_id} " if track_id else ""
+        pen.text(
+            (start[0] + 6, start[1] + 6), f"{label}{np.degrees(obs.pose[3]):.0f}° {obs.estimate}", fill=colour
+        )
+    return image

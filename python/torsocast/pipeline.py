@@ -1,0 +1,84 @@
+"""The whole per-frame chain of DESIGN.md: keypoint model, depth lifting, tracking with one
+forecaster per person, with the time each stage takes."""
+
+from __future__ import annotations
+
+import time
+from collections import defaultdict
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .camera import DepthLookup
+from .keypoints import Detections, KeypointModel
+from .lifting import lift
+from .sources import Frame
+from .track import F64
+from .tracker import Result, Tracker, TrackerConfig
+
+STAGES = ("model", "lifting", "tracking", "forecasting")
+
+
+@dataclass
+class FrameResult:
+    frame: Frame
+    detections: Detections
+    joints: F64 | None
+    """``(people, 17, 3)`` world joints, None for a colour-only frame."""
+    people: list[Result]
+    forecasts: dict[int, F64]
+    """Detection index -> ``(horizons, 5)`` forecast of its confirmed track."""
+
+
+@dataclass
+class Pipeline:
+    model: KeypointModel
+    horizons: Sequence[float] = (0.4, 1.0)
+    tracker_config: TrackerConfig = field(default_factory=TrackerConfig)
+    lookup: DepthLookup = field(default_factory=DepthLookup)
+    seconds: dict[str, float] = field(default_factory=lambda: defaultdict(float))
+    frames: int = 0
+
+    def __post_init__(self) -> None:
+        if any(not (np.isfinite(h) and h > 0) for h in self.horizons):
+            raise ValueError(f"horizons must be positive seconds, got {list(self.horizons)}")
+        self.tracker = Tracker(self.tracker_config)
+
+    def __call__(self, frame: Frame) -> FrameResult:
+        clock = time.perf_counter()
+        detections = self.model(frame.color)
+        clock = self._lap("model", clock)
+        if frame.depth is None or frame.camera is None:
+            self.frames += 1
+            return FrameResult(frame, detections, None, [], {})
+        joints = lift(detections.keypoints, frame.depth, frame.camera, self.lookup)
+        # A keypoint the model barely believes in is missing, not a 3D joint.
+        joints[detections.keypoints[..., 2] < self.tracker_config.track.min_score] = np.nan
+        clock = self._lap("lifting", clock)
+        return self.track(frame, detections, joints, clock)
+
+    def track(self, frame: Frame, detections: Detections, joints: F64, clock: float) -> FrameResult:
+        """The tracking and forecasting stages on already lifted joints."""
+        assert frame.camera is not None
+        position = np.asarray(frame.camera.camera_to_world)[:3, 3]
+        people = self.tracker.update(frame.time, joints, detections.keypoints[..., 2], position)
+        clock = self._lap("tracking", clock)
+        forecasts = {}
+        for person in people:
+            if person.track_id is not None and person.track is not None:
+                ahead = person.track.forecast(list(self.horizons))
+                if ahead is not None:
+                    forecasts[person.detection] = ahead
+        self._lap("forecasting", clock)
+        self.frames += 1
+        return FrameResult(frame, detections, joints, people, forecasts)
+
+    def _lap(self, stage: str, since: float) -> float:
+        now = time.perf_counter()
+        self.seconds[stage] += now - since
+        return now
+
+    def timing(self) -> dict[str, float]:
+        """Mean milliseconds per frame of each stage that ran."""
+        return {s: 1e3 * self.seconds[s] / max(self.frames, 1) for s in STAGES if s in self.seconds}

@@ -1,0 +1,77 @@
+"""NumPy ``.npz`` recordings: the simplest way to save what a live sensor saw.
+
+Arrays (``T`` frames): ``color (T, h, w, 3) uint8`` RGB, ``depth (T, h, w)`` in sensor units,
+``time (T,)`` seconds, ``intrinsics (4,)`` fx, fy, cx, cy of the colour image, and optionally
+``distortion (≤5,)`` Brown-Conrady, ``depth_scale ()`` metres per unit (default 0.001) and
+``camera_to_world (4, 4)``. :func:`write` writes exactly this.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+import numpy.typing as npt
+
+from ..camera import Camera, Intrinsics, level_camera
+from .frame import Frame, check_increasing, depth_in_metres
+
+REQUIRED = ("color", "depth", "time", "intrinsics")
+
+
+class NpzRecording:
+    def __init__(self, path: str | Path) -> None:
+        self.path = Path(path)
+        self.name = str(self.path)
+        self.data = np.load(self.path)
+        missing = [k for k in REQUIRED if k not in self.data.files]
+        if missing:
+            raise ValueError(f"{self.path}: missing arrays {missing} (a recording needs {list(REQUIRED)})")
+        color, depth, time = self.data["color"], self.data["depth"], self.data["time"]
+        if color.ndim != 4 or color.shape[3] != 3 or color.dtype != np.uint8:
+            raise ValueError(
+                f"{self.path}: color must be (T, h, w, 3) uint8, got {color.shape} {color.dtype}"
+            )
+        if depth.shape != color.shape[:3] or time.shape != color.shape[:1]:
+            raise ValueError(
+                f"{self.path}: depth {depth.shape} and time {time.shape} must match "
+                f"color's (T, h, w) {color.shape[:3]}"
+            )
+        check_increasing(time.astype(np.float64), self.name)
+        fx, fy, cx, cy = self.data["intrinsics"]
+        distortion = tuple(self.data["distortion"]) if "distortion" in self.data.files else ()
+        pose = self.data["camera_to_world"] if "camera_to_world" in self.data.files else level_camera()
+        scale = float(self.data["depth_scale"]) if "depth_scale" in self.data.files else 0.001
+        self.camera = Camera(Intrinsics(fx, fy, cx, cy, distortion), pose, scale)
+
+    def __len__(self) -> int:
+        return len(self.data["time"])
+
+    def __iter__(self) -> Iterator[Frame]:
+        color, depth, time = self.data["color"], self.data["depth"], self.data["time"]
+        for i in range(len(time)):
+            yield Frame(
+                i, float(time[i]), color[i], depth_in_metres(depth[i], self.camera.depth_scale), self.camera
+            )
+
+
+def write(
+    path: str | Path,
+    color: npt.NDArray[np.uint8],
+    depth: npt.NDArray[np.generic],
+    time: npt.ArrayLike,
+    camera: Camera,
+) -> None:
+    """Saves frames as a recording :class:`NpzRecording` reads back."""
+    k = camera.intrinsics
+    np.savez_compressed(
+        path,
+        color=color,
+        depth=depth,
+        time=np.asarray(time, dtype=np.float64),
+        intrinsics=np.array([k.fx, k.fy, k.cx, k.cy]),
+        distortion=np.array(k.distortion, dtype=np.float64),
+        depth_scale=np.array(camera.depth_scale),
+        camera_to_world=np.asarray(camera.camera_to_world),
+    )

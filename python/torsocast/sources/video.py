@@ -1,0 +1,45 @@
+"""Video files, colour only: for looking at 2D keypoints, not for 3D poses (no depth). Needs
+OpenCV (``pip install torsocast[video]``)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
+
+from .frame import Frame
+
+
+class VideoFile:
+    def __init__(self, path: str | Path) -> None:
+        try:
+            import cv2
+        except ImportError as e:
+            raise ImportError("reading video needs OpenCV: pip install 'torsocast[video]'") from e
+        self.path = Path(path)
+        self.name = str(self.path)
+        if not self.path.is_file():
+            raise FileNotFoundError(f"{self.path}: no such video file")
+        capture = cv2.VideoCapture(str(self.path))
+        if not capture.isOpened():
+            raise ValueError(f"{self.path}: OpenCV cannot open this video")
+        self.fps = capture.get(cv2.CAP_PROP_FPS) or 30.0
+        self.frames = int(capture.get(cv2.CAP_PROP_FRAME_COUNT))
+        capture.release()
+
+    def __len__(self) -> int:
+        return max(self.frames, 0)
+
+    def __iter__(self) -> Iterator[Frame]:
+        import cv2
+
+        capture = cv2.VideoCapture(str(self.path))
+        index = 0
+        try:
+            while True:
+                ok, bgr = capture.read()
+                if not ok:
+                    break
+                yield Frame(index, index / self.fps, cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB), None, None)
+                index += 1
+        finally:
+            capture.release()

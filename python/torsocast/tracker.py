@@ -1,0 +1,118 @@
+"""Multi-person tracking: detections to tracks by their 3D torso centres.
+
+Each frame, the cost of giving detection j to track i is the distance between the track's last
+torso centre and the detection's; the optimal assignment (Hungarian, SciPy) is taken, and pairs
+further apart than ``gate`` are refused. An unmatched detection opens a tentative track, which is
+confirmed (and given the next integer id) after ``min_hits`` matched frames; a track unmatched
+for ``max_missing`` seconds is dropped (a tentative one at its first miss).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import numpy.typing as npt
+from scipy.optimize import linear_sum_assignment
+
+from .keypoints import coco
+from .track import F64, Observation, Track, TrackConfig
+
+
+@dataclass(frozen=True)
+class TrackerConfig:
+    gate: float = 0.6
+    """Largest torso-centre distance (m) between a track and its detection in one frame: a
+    walking person covers 0.6 m in 0.4 s."""
+    min_hits: int = 3
+    """Matched frames before a track is confirmed and reported with an id."""
+    max_missing: float = 1.0
+    """Seconds without a match after which a confirmed track is dropped."""
+    track: TrackConfig = field(default_factory=TrackConfig)
+
+
+def detection_centre(joints: F64, scores: F64, min_score: float) -> F64 | None:
+    """Where a detection is, for association: the mean of its seen torso joints, else of every
+    seen joint; None when it has no 3D joint at all."""
+    seen = np.isfinite(joints).all(axis=1) & (scores >= min_score)
+    torso = np.zeros(17, dtype=bool)
+    torso[list(coco.TORSO)] = True
+    for subset in (seen & torso, seen):
+        if subset.any():
+            return joints[subset].mean(axis=0)  # type: ignore[no-any-return]
+    return None
+
+
+@dataclass
+class Slot:
+    """A track with its bookkeeping."""
+
+    track: Track
+    centre: F64
+    hits: int = 1
+    last_seen: float = 0.0
+    confirmed: bool = False
+
+
+@dataclass
+class Result:
+    """One detection's outcome in a frame."""
+
+    detection: int
+    """Index of the detection in the frame's :class:`~torsocast.keypoints.Detections`."""
+    track_id: int | None
+    """The confirmed track's id; None for a tentative track or an unplaceable detection."""
+    observation: Observation | None
+    track: Track | None
+
+
+class Tracker:
+    def __init__(self, config: TrackerConfig | None = None) -> None:
+        self.config = config or TrackerConfig()
+        self.slots: list[Slot] = []
+        self.next_id = 1
+        self._tentative = -1  # tentative tracks count down from -1; ids are given at confirmation
+
+    def update(
+        self, t: float, joints: npt.NDArray[np.float64], scores: npt.NDArray[np.float64], camera_position: F64
+    ) -> list[Result]:
+        """One frame: ``joints (people, 17, 3)`` in the world frame and their ``scores``."""
+        c = self.config
+        centres = [detection_centre(j, s, c.track.min_score) for j, s in zip(joints, scores)]
+        placeable = [i for i, x in enumerate(centres) if x is not None]
+        pairs = self.associate([centres[i] for i in placeable])  # type: ignore[misc]
+        matched = {placeable[d]: s for s, d in pairs}
+        results = [Result(i, None, None, None) for i in range(len(joints))]
+        for d in placeable:
+            slot = matched.get(d)
+            if slot is None:
+                slot = Slot(Track(self._tentative, c.track), centres[d], hits=0)  # type: ignore[arg-type]
+                self._tentative -= 1
+                self.slots.append(slot)
+            obs = slot.track.update(t, joints[d], scores[d], camera_position)
+            slot.hits += 1
+            slot.last_seen = t
+            slot.centre = obs.pose[:3] if obs.pose is not None else centres[d]  # type: ignore[assignment]
+            if not slot.confirmed and slot.hits >= c.min_hits:
+                slot.confirmed = True
+                slot.track.id = self.next_id
+                self.next_id += 1
+            results[d] = Result(d, slot.track.id if slot.confirmed else None, obs, slot.track)
+        self.slots = [
+            s for s in self.slots if s.last_seen == t or (s.confirmed and t - s.last_seen <= c.max_missing)
+        ]
+        return results
+
+    def associate(self, centres: list[F64]) -> list[tuple[Slot, int]]:
+        """Optimal (slot, detection) pairs within the gate distance."""
+        if not self.slots or not centres:
+            return []
+        tracks = np.array([s.centre for s in self.slots])
+        cost = np.linalg.norm(tracks[:, None, :] - np.array(centres)[None, :, :], axis=2)
+        rows, cols = linear_sum_assignment(np.where(cost <= self.config.gate, cost, 1e6))
+        return [(self.slots[r], int(k)) for r, k in zip(rows, cols) if cost[r, k] <= self.config.gate]
+
+    @property
+    def tracks(self) -> list[Track]:
+        """The confirmed tracks."""
+        return [s.track for s in self.slots if s.confirmed]

@@ -1,0 +1,139 @@
+"""Per-person chain (swap correction, gating, plane or shoulders, forecaster grid) and the
+multi-person tracker, on synthetic people whose poses are known exactly."""
+
+import numpy as np
+import pytest
+
+import torsocast as tc
+from torsocast.keypoints import coco
+from torsocast.track import Track, swap_sides
+from torsocast.tracker import Tracker, TrackerConfig
+
+CAMERA = np.zeros(3)  # camera at the world origin, people in front of it along +x
+
+
+def person(centre, yaw, hips=True):
+    """17 world joints and scores of an upright person at ``centre`` facing azimuth ``yaw``, with
+    a visible face when it faces the camera at the origin."""
+    forward = np.array([np.cos(yaw), np.sin(yaw), 0.0])
+    left = np.array([-np.sin(yaw), np.cos(yaw), 0.0])
+    up = np.array([0.0, 0.0, 1.0])
+    c = np.asarray(centre, dtype=float)
+    joints = np.full((17, 3), np.nan)
+    joints[coco.LEFT_SHOULDER] = c + 0.2 * left + 0.25 * up
+    joints[coco.RIGHT_SHOULDER] = c - 0.2 * left + 0.25 * up
+    joints[coco.LEFT_HIP] = c + 0.12 * left - 0.25 * up
+    joints[coco.RIGHT_HIP] = c - 0.12 * left - 0.25 * up
+    joints[coco.NOSE] = c + 0.55 * up + 0.1 * forward
+    scores = np.zeros(17)
+    scores[list(coco.TORSO)] = 0.9
+    if not hips:
+        joints[[coco.LEFT_HIP, coco.RIGHT_HIP]] = np.nan
+        scores[[coco.LEFT_HIP, coco.RIGHT_HIP]] = 0.0
+    faces_camera = forward @ (CAMERA - c) > 0
+    scores[coco.NOSE] = 0.9 if faces_camera else 0.05
+    return joints, scores
+
+
+def test_a_turning_person_gets_the_plane_azimuth_and_a_back_view_is_unswapped():
+    track = Track(1)
+    yaws = np.pi + np.radians(np.arange(0, 360, 4))  # facing the camera, then turning round
+    errors, swaps = [], 0
+    for k, yaw in enumerate(yaws):
+        joints, scores = person([2.0, 0.0, 1.0], yaw)
+        # A 2D detector labels a back view as if it were a front: sides swapped.
+        back = np.cos(yaw) > 0.3
+        if back:
+            joints, scores = swap_sides(joints), swap_sides(scores[:, None])[:, 0]
+        obs = track.update(k / 25, joints, scores, CAMERA)
+        assert obs.estimate == "plane"
+        swaps += obs.swapped
+        assert obs.swapped == back
+        errors.append(np.angle(np.exp(1j * (obs.pose[3] - yaw))))
+    assert np.abs(errors).max() < 1e-9 and swaps > 0
+    assert obs.pose[4] == pytest.approx(np.pi / 2)
+
+
+def test_a_track_born_facing_away_with_swapped_labels_is_corrected_by_the_face():
+    joints, scores = person([2.0, 0.5, 1.0], 0.2)  # back to the camera
+    obs = Track(1).update(0.0, swap_sides(joints), swap_sides(scores[:, None])[:, 0], CAMERA)
+    assert obs.swapped and obs.pose[3] == pytest.approx(0.2)
+    obs = Track(2).update(0.0, joints, scores, CAMERA)  # labelled right: no face, facing away
+    assert not obs.swapped and obs.pose[3] == pytest.approx(0.2)
+
+
+def test_without_hips_the_azimuth_comes_from_the_shoulders():
+    track = Track(1)
+    joints, scores = person([2.0, 0.0, 1.0], 2.5)
+    track.update(0.0, joints, scores, CAMERA)  # plane: learns where the centre sits
+    joints, scores = person([2.02, 0.0, 1.0], 2.6, hips=False)
+    obs = track.update(0.04, joints, scores, CAMERA)
+    assert obs.estimate == "shoulders"
+    assert obs.pose[3] == pytest.approx(2.6)
+    assert obs.pose[:3] == pytest.approx([2.02, 0.0, 1.0])
+
+
+def test_frames_faster_than_the_grid_are_skipped_and_gaps_are_filled():
+    track = Track(1)
+    grid = []
+    for t in [0.0, 1 / 30, 2 / 30, 3 / 30, 4 / 30, 0.28]:
+        joints, scores = person([2.0, 0.0, 1.0], 3.0)
+        grid.append(track.update(t, joints, scores, CAMERA).grid)
+    # 30 fps onto 25 Hz slots 0, 1, 2, 3, 3 (skipped), then slot 7 after three empty slots.
+    assert [g["skipped"] for g in grid] == [False, False, False, False, True, False]
+    assert grid[-1]["filled"] == 3 and not grid[-1]["restarted"]
+    assert len(track.forecaster) == 8
+
+
+def test_gate_replaces_a_jumping_joint():
+    track = Track(1)
+    joints, scores = person([2.0, 0.0, 1.0], np.pi)
+    track.update(0.0, joints, scores, CAMERA)
+    joints[coco.LEFT_HIP] += [0.5, 0.0, 0.0]  # a depth reading from the wall
+    obs = track.update(0.04, joints, scores, CAMERA)
+    assert obs.joint_status[coco.LEFT_HIP] == tc.JointStatus.REPLACED
+    assert obs.pose[3] == pytest.approx(np.pi)
+
+
+def walkers(t):
+    """Two people walking towards each other 1.2 m apart in y, and a third who appears at 0.4 s."""
+    a = person([1.0 + 1.0 * t, 0.6, 1.0], 0.0)
+    b = person([4.0 - 1.0 * t, -0.6, 1.0], np.pi)
+    c = person([3.0, 2.0, 1.0], np.pi)
+    people = [a, b] + ([c] if t >= 0.4 else [])
+    return np.array([p[0] for p in people]), np.array([p[1] for p in people])
+
+
+def test_tracker_keeps_ids_through_a_crossing_and_a_missed_frame():
+    tracker = Tracker(TrackerConfig(min_hits=3, max_missing=0.5))
+    ids_a, ids_b, ids_c = set(), set(), set()
+    for k in range(75):
+        t = k / 25
+        joints, scores = walkers(t)
+        if k == 30:
+            joints, scores = joints[[1, 2]], scores[[1, 2]]  # person a is not detected
+        results = tracker.update(t, joints, scores, CAMERA)
+        found = {r.detection: r.track_id for r in results}
+        if k == 30:
+            ids_b.add(found[0])
+            continue
+        ids_a.add(found[0])
+        ids_b.add(found[1])
+        if t >= 0.4:
+            ids_c.add(found[2])
+    # Confirmed after 3 frames: None before, then one stable id each.
+    assert ids_a == {None, 1} and ids_b == {None, 2} and ids_c == {None, 3}
+    assert len(tracker.tracks) == 3
+    forecast = tracker.tracks[0].forecast([0.4])
+    assert forecast[0, 0] == pytest.approx(1.0 + 1.0 * (74 / 25 + 0.4), abs=0.05)  # x ahead of a
+
+
+def test_tracker_drops_tracks_and_refuses_far_matches():
+    tracker = Tracker(TrackerConfig(min_hits=1, max_missing=0.2, gate=0.5))
+    joints, scores = walkers(0.0)
+    tracker.update(0.0, joints[:1], scores[:1], CAMERA)
+    far = joints[:1] + [1.0, 0.0, 0.0]  # 1 m away in one frame: a different person
+    results = tracker.update(0.04, far, scores[:1], CAMERA)
+    assert results[0].track_id == 2
+    tracker.update(0.5, np.zeros((0, 17, 3)), np.zeros((0, 17)), CAMERA)
+    assert tracker.tracks == []
