@@ -80,3 +80,25 @@ def test_panoptic_kinect_frame_deprojects_to_a_person_at_a_plausible_distance():
     height = np.percentile(body[:, 1], 99) - np.percentile(body[:, 1], 1)
     width = np.percentile(body[:, 0], 99) - np.percentile(body[:, 0], 1)
     assert 1.0 < height < 2.0 and 0.3 < width < 1.2  # metric, human-sized
+
+
+def test_depth_lookup_matches_a_nan_aware_numpy_reference(rng):
+    depth = rng.choice([0.0, 1.0, 1.05, 1.1, 2.5, 3.0], size=(40, 50)) + rng.normal(0, 0.01, (40, 50))
+    depth[depth < 0.5] = 0.0
+    lookup = DepthLookup(radius=2, band=0.15, min_valid=4)
+    uv = rng.uniform(0, 49, size=(300, 2))
+    uv[:, 1] = uv[:, 1] * 39 / 49
+    got = lookup(depth.astype(np.float32), uv)
+    for (u, v), z in zip(np.rint(uv).astype(int), got):
+        window = depth[max(v - 2, 0) : v + 3, max(u - 2, 0) : u + 3].ravel()
+        # the lookup clamps at the border (repeats edge pixels); compare only interior windows
+        if window.size != 25:
+            continue
+        valid = window[(window >= lookup.min_depth) & (window <= lookup.max_depth)]
+        if valid.size < lookup.min_valid:
+            assert np.isnan(z)
+            continue
+        front = np.percentile(valid, 25)
+        kept = valid[valid <= front + lookup.band]
+        expected = np.median(kept) if kept.size >= lookup.min_valid else np.nan
+        assert z == pytest.approx(expected, abs=1e-6, nan_ok=True)

@@ -125,18 +125,22 @@ class DepthLookup:
         cols = np.clip(centre[:, 0, None, None] + offsets[None, None, :], 0, w - 1)
         rows = np.clip(centre[:, 1, None, None] + offsets[None, :, None], 0, h - 1)
         window = depth[rows, cols].reshape(len(centre), -1).astype(np.float64)
-        window[~((window >= self.min_depth) & (window <= self.max_depth))] = np.nan
-        counted = np.isfinite(window).sum(axis=1) >= self.min_valid
-        result = np.full(len(centre), np.nan)
-        if counted.any():
-            kept = window[counted]
-            front = np.nanpercentile(kept, 25, axis=1)
-            kept[kept > front[:, None] + self.band] = np.nan
-            enough = np.isfinite(kept).sum(axis=1) >= self.min_valid
-            medians = np.full(len(kept), np.nan)
-            if enough.any():
-                medians[enough] = np.nanmedian(kept[enough], axis=1)
-            result[counted] = medians
+        window[~((window >= self.min_depth) & (window <= self.max_depth))] = np.inf
+        # Sorted rows turn the percentile, the band and the median into index arithmetic
+        # (np.nanpercentile and np.nanmedian cost about 1 ms per call here).
+        window.sort(axis=1)
+        count = np.isfinite(window).sum(axis=1)
+        position = 0.25 * np.maximum(count - 1, 0)
+        low = np.floor(position).astype(np.intp)
+        high = np.minimum(low + 1, np.maximum(count - 1, 0))
+        a = np.take_along_axis(window, low[:, None], 1)[:, 0]
+        b = np.take_along_axis(window, high[:, None], 1)[:, 0]
+        with np.errstate(invalid="ignore"):  # inf - inf in rows with no reading; masked below
+            front = a + (position - low) * np.where(high > low, b - a, 0.0)
+        kept = (window <= (front + self.band)[:, None]).sum(axis=1)
+        lo = np.take_along_axis(window, np.maximum(kept - 1, 0)[:, None] // 2, 1)[:, 0]
+        hi = np.take_along_axis(window, (kept // 2)[:, None], 1)[:, 0]
+        result = np.where((count >= self.min_valid) & (kept >= self.min_valid), 0.5 * (lo + hi), np.nan)
         out[inside] = result
         return out.reshape(shape)
 

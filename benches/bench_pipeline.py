@@ -1,0 +1,114 @@
+"""Per-frame cost of the RGB-D pipeline outside the keypoint model (depth lifting, tracking and
+forecasting) for 1, 10 and 50 people, and end-to-end frames per second on the turntable sequence
+with each keypoint model found. Prints Markdown tables for benches/README.md.
+
+    python benches/bench_pipeline.py [--shared ../shared]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+import numpy as np
+
+from torsocast.camera import Camera, Intrinsics
+from torsocast.keypoints import Detections, open_model
+from torsocast.pipeline import Pipeline
+from torsocast.sources import Frame, open_source
+
+K = Intrinsics(525.0, 525.0, 320.0, 240.0)
+FRAMES = 200  # 8 s at 25 Hz: every track is confirmed and forecasting for most of it
+
+
+def crowd(n: int, t: float, rng: np.random.Generator) -> tuple[Detections, np.ndarray]:
+    """``n`` people standing on a 2-4 m arc in front of a level camera, slowly turning, as
+    detections with 17 keypoints, and the depth image they would give (their torsos as boxes)."""
+    depth = np.full((480, 640), 6.0, dtype=np.float32)
+    keypoints = np.zeros((n, 17, 3))
+    for i in range(n):
+        x = 2.0 + 2.0 * (i % 5) / 4  # distance
+        y = -1.2 + 2.4 * (i / max(n - 1, 1))
+        yaw = np.pi + 0.5 * np.sin(0.5 * t + i)
+        left = np.array([-np.sin(yaw), np.cos(yaw), 0.0])
+        joints = np.array([x, y, 0.0]) + np.outer(np.linspace(-0.2, 0.2, 17), left)
+        joints[:, 2] += np.linspace(0.3, -0.3, 17)
+        optical = np.column_stack([-joints[:, 1], -joints[:, 2], joints[:, 0]])
+        uv = K.project(optical)
+        keypoints[i, :, :2] = uv + rng.normal(0, 0.5, size=(17, 2))
+        keypoints[i, :, 2] = 0.9
+        u0, v0 = np.clip(uv.min(axis=0) - 4, 0, [639, 479]).astype(int)
+        u1, v1 = np.clip(uv.max(axis=0) + 4, 0, [639, 479]).astype(int)
+        depth[v0 : v1 + 1, u0 : u1 + 1] = np.minimum(depth[v0 : v1 + 1, u0 : u1 + 1], x)
+    boxes = np.concatenate([keypoints[:, :, :2].min(axis=1), keypoints[:, :, :2].max(axis=1)], axis=1)
+    return Detections(keypoints, boxes, np.full(n, 0.9)), depth
+
+
+class Replay:
+    """A 'model' that returns precomputed detections, so that only the rest is timed."""
+
+    family, input_size = "replay", 0
+
+    def __init__(self) -> None:
+        self.next: Detections = Detections.empty()
+
+    def __call__(self, image: np.ndarray) -> Detections:
+        return self.next
+
+
+def outside_model(n: int) -> dict[str, float]:
+    rng = np.random.default_rng(n)
+    model = Replay()
+    pipeline = Pipeline(model, horizons=(0.4, 1.0))
+    camera = Camera(K)
+    color = np.zeros((480, 640, 3), dtype=np.uint8)
+    for k in range(FRAMES):
+        t = k / 25
+        model.next, depth = crowd(n, t, rng)
+        pipeline(Frame(k, t, color, depth, camera))
+    return pipeline.timing()
+
+
+def end_to_end(shared: Path) -> list[tuple[str, float, dict[str, float]]]:
+    rows = []
+    models = [("MoveNet Lightning int8 (bundled)", None)]
+    for name in ("yolo11n-pose-320.onnx", "yolo11n-pose.onnx"):
+        if (shared / "models" / name).is_file():
+            models.append((name, shared / "models" / name))
+    source = shared / "data" / "rgbd" / "turntable"
+    for label, path in models:
+        pipeline = Pipeline(open_model(path))
+        frames = list(open_source(source))
+        pipeline(frames[0])  # warm-up: onnxruntime's first run allocates
+        pipeline = Pipeline(pipeline.model)
+        start = time.perf_counter()
+        for frame in frames:
+            pipeline(frame)
+        rows.append((label, len(frames) / (time.perf_counter() - start), pipeline.timing()))
+    return rows
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--shared", default=str(Path(__file__).resolve().parents[2] / "shared"))
+    args = parser.parse_args()
+    print("| people | lifting (ms) | tracking (ms) | forecasting (ms) | total outside the model (ms) |")
+    print("|---:|---:|---:|---:|---:|")
+    for n in (1, 10, 50):
+        t = outside_model(n)
+        cells = [t["lifting"], t["tracking"], t["forecasting"], sum(t.values()) - t["model"]]
+        print(f"| {n} | " + " | ".join(f"{c:.3f}" for c in cells) + " |")
+    shared = Path(args.shared)
+    if not (shared / "data" / "rgbd" / "turntable").is_dir():
+        print(f"\nend-to-end skipped: {shared}/data/rgbd/turntable not found")
+        return
+    print("\n| model | frames/s (turntable, no decoding) | model | lifting | tracking | forecasting |")
+    print("|---|---:|---:|---:|---:|---:|")
+    for label, fps, t in end_to_end(shared):
+        stages = " | ".join(f"{t[s]:.2f} ms" for s in ("model", "lifting", "tracking", "forecasting"))
+        print(f"| {label} | {fps:.1f} | {stages} |")
+
+
+if __name__ == "__main__":
+    main()
