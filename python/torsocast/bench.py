@@ -10,6 +10,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from . import wrap_angle
 from ._core import Forecaster, ForecasterConfig, forecast_batch
 
 #: Per-forecast cost reported by the thesis (Python, Intel i7-6700HQ), for comparison.
@@ -34,7 +35,7 @@ def walking_windows(count: int, length: int = 50, rate_hz: float = 25.0, seed: i
     out[..., 0] = speed * t + 0.01 * rng.normal(size=(count, length))
     out[..., 1] = 0.2 * np.sin(t + phase)
     out[..., 2] = 1.1 + 0.02 * np.sin(11.3 * t + phase)
-    out[..., 3] = np.angle(np.exp(1j * (turn * t + phase + 0.1 * np.sin(11.3 * t))))
+    out[..., 3] = wrap_angle(turn * t + phase + 0.1 * np.sin(11.3 * t))
     out[..., 4] = np.pi / 2 + 0.05 * np.sin(5.6 * t + phase)
     return out
 

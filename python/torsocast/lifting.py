@@ -4,8 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .camera import Camera, DepthLookup
-from .track import F64
+from .camera import F64, Camera, DepthLookup
 
 
 def lift(keypoints: F64, depth: np.ndarray, camera: Camera, lookup: DepthLookup | None = None) -> F64:

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
+from . import wrap_angle
 from ._core import Forecaster, ForecasterConfig, JointGate, TorsocastError, fit_plane, shoulder_heading
 from .keypoints import coco
 
@@ -94,8 +95,7 @@ class Track:
         self.forecaster = Forecaster(self.config.forecaster)
         self.previous: F64 | None = None
         self.centre_offset: F64 | None = None  # plane centre minus shoulder midpoint, learned
-        self.last_pose: F64 | None = None
-        self.last_time: float | None = None
+        self.last_pose: F64 | None = None  # for the elevation a shoulders-only frame holds
 
     def correct_sides(self, joints: F64, scores: F64, camera_position: F64) -> bool:
         """Whether this frame's labels must be exchanged. With a previous frame, the pairing that
@@ -136,8 +136,8 @@ class Track:
             else:
                 filled, restarted = self.forecaster.update(list(pose), t, weight)
                 grid.update(filled=filled, restarted=restarted)
-            self.last_pose, self.last_time = pose, t
-        pose_out = None if pose is None else np.r_[pose[:3], np.angle(np.exp(1j * pose[3])), pose[4]]
+            self.last_pose = pose
+        pose_out = None if pose is None else np.r_[pose[:3], wrap_angle(pose[3]), pose[4]]
         return Observation(pose_out, estimate, swapped, status, weight, grid)
 
     def torso_pose(
@@ -183,5 +183,5 @@ class Track:
         if not horizons or len(self.forecaster) < self.forecaster.min_samples:
             return None
         out = self.forecaster.forecast(horizons)
-        out[:, 3] = np.angle(np.exp(1j * out[:, 3]))
+        out[:, 3] = wrap_angle(out[:, 3])
         return out

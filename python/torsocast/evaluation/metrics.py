@@ -13,6 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
+from .. import wrap_angle
+
 F64 = npt.NDArray[np.float64]
 
 #: Horizons of the thesis' tables, in 25 Hz steps: 400 ms, 1 s, 2 s.
@@ -35,7 +37,7 @@ class StepErrors:
 
 def step_errors(forecast: F64, truth: F64) -> StepErrors:
     """Errors of ``(n, steps, 5)`` forecasts against the true poses at the same steps."""
-    azimuth = np.abs(np.angle(np.exp(1j * (forecast[..., 3] - truth[..., 3]))))
+    azimuth = np.abs(wrap_angle(forecast[..., 3] - truth[..., 3]))
     return StepErrors(
         azimuth=np.degrees(azimuth),
         elevation=np.degrees(np.abs(forecast[..., 4] - truth[..., 4])),
