@@ -27,6 +27,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .._core import fit_planes
+from .kinematics import chain, expmap_to_rotmat
 
 F64 = npt.NDArray[np.float64]
 
@@ -137,24 +138,6 @@ def read_expmap(path: str | Path) -> F64:
     return data
 
 
-def expmap_to_rotmat(r: npt.ArrayLike) -> F64:
-    """Rodrigues' formula for any number of exponential maps ``(..., 3)`` -> ``(..., 3, 3)``, with the
-    ``θ + eps`` guard of the reference code so that a zero rotation gives the identity."""
-    r = np.asarray(r, dtype=np.float64)
-    theta = np.linalg.norm(r, axis=-1)[..., None, None]
-    k = r / (theta[..., 0] + np.finfo(np.float32).eps)
-    zero = np.zeros(k.shape[:-1])
-    cross = np.stack(
-        [
-            np.stack([zero, -k[..., 2], k[..., 1]], -1),
-            np.stack([k[..., 2], zero, -k[..., 0]], -1),
-            np.stack([-k[..., 1], k[..., 0], zero], -1),
-        ],
-        -2,
-    )
-    return np.eye(3) + np.sin(theta) * cross + (1.0 - np.cos(theta)) * (cross @ cross)
-
-
 def integrate_root(channels: F64) -> tuple[F64, F64]:
     """Root rotations ``(frames, 3, 3)`` and positions ``(frames, 3)`` (mm) in the first frame's
     pelvis frame: ``R_i = exp(ω_i) R_{i-1}`` and ``T_i = T_{i-1} + R_{i-1}ᵀ v_i`` (row-vector
@@ -175,14 +158,7 @@ def forward_kinematics(channels: F64) -> F64:
     (x the subject's initial left, y roughly up, z initial forward)."""
     root_rotation, root_position = integrate_root(channels)
     local = expmap_to_rotmat(channels[:, 3:].reshape(len(channels), 32, 3))
-    rotations = np.empty_like(local)
-    xyz = np.empty((len(channels), 32, 3))
-    rotations[:, 0] = root_rotation
-    xyz[:, 0] = OFFSETS_MM[0] + root_position
-    for j in range(1, 32):
-        p = PARENTS[j]
-        xyz[:, j] = OFFSETS_MM[j] @ rotations[:, p] + xyz[:, p]
-        rotations[:, j] = local[:, j] @ rotations[:, p]
+    xyz = chain(PARENTS, OFFSETS_MM, root_rotation, root_position, local)
     return xyz / 1000.0
 
 
