@@ -43,14 +43,16 @@ def check_turntable(errors, turn, median, p90, worst, back_median):
 
 
 def test_turntable_azimuth_follows_the_turn_with_yolo(yolo320):
-    # Measured: median 4.5, 90th percentile 17.2, worst 30.4 (profile views, where the far
+    # Measured: median 4.5, 90th percentile 24.1, worst 35.3 (profile views, where the far
     # shoulder is hidden and its depth comes from the near one), back view median 5.9 degrees;
-    # 2 frames without an estimate. Thresholds leave about 50 % margin.
-    check_turntable(*turntable_errors(yolo320), median=7.0, p90=25.0, worst=45.0, back_median=9.0)
+    # 2 frames without an estimate. The 90th percentile was 17.2 with the absolute joint gate,
+    # which failed walkers (median 18.6 degrees on the CMU demo walks, 4.1 with the gate
+    # relative to the body's motion). Thresholds leave 25 to 50 % margin.
+    check_turntable(*turntable_errors(yolo320), median=7.0, p90=30.0, worst=45.0, back_median=9.0)
 
 
 def test_turntable_azimuth_follows_the_turn_with_the_bundled_movenet():
-    # Measured: median 6.9, 90th percentile 22.3, worst 32.6, back view median 9.8 degrees.
+    # Measured: median 6.8, 90th percentile 22.3, worst 27.8, back view median 9.8 degrees.
     check_turntable(*turntable_errors(open_model()), median=10.0, p90=30.0, worst=45.0, back_median=14.0)
 
 
@@ -60,7 +62,8 @@ def test_run_writes_json_lines_and_overlays(tmp_path, capsys):
     out = tmp_path / "run"
     assert (
         main(
-            ["run", str(source), "--model", str(model), "--out", str(out), "--overlay", "--horizons", "0.4,1"]
+            ["run", str(source), "--model", str(model), "--out", str(out), "--overlay", "--plot"]
+            + ["--horizons", "0.4,1"]
         )
         == 0
     )
@@ -68,6 +71,7 @@ def test_run_writes_json_lines_and_overlays(tmp_path, capsys):
     assert "100 frames" in printed and "model" in printed and "tracking" in printed
     lines = [json.loads(line) for line in (out / "frames.jsonl").read_text().splitlines()]
     assert len(lines) == 100 and len(list((out / "overlay").glob("*.jpg"))) == 100
+    assert (out / "topdown.png").stat().st_size > 1000
     assert all(line["schema"] == "torsocast.frame/1" for line in lines)
     last = lines[-1]["people"][0]
     assert last["id"] == 1 and last["estimate"] in ("plane", "shoulders")

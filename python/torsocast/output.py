@@ -21,7 +21,7 @@ SCHEMA = "torsocast.frame/1"
 
 def _clean(values: Any, digits: int = 4) -> Any:
     """Nested lists with NaN as None and floats rounded (millimetres, tenths of a milliradian)."""
-    if isinstance(values, np.ndarray):
+    if isinstance(values, (np.ndarray, np.generic)):
         values = values.tolist()
     if isinstance(values, (list, tuple)):
         return [_clean(v, digits) for v in values]
