@@ -1,4 +1,4 @@
-"""Command line: ``torsocast run``, ``bench``, ``forecast`` and ``eval``."""
+"""Command line: ``torsocast demo``, ``run``, ``bench``, ``forecast`` and ``eval``."""
 
 from __future__ import annotations
 
@@ -100,10 +100,8 @@ def _run(args: argparse.Namespace) -> int:
     from .run import run
     from .sources import open_source
 
-    try:
-        horizons = [float(h) for h in args.horizons.split(",") if h]
-    except ValueError:
-        print(f"--horizons: expected comma-separated seconds, got {args.horizons!r}", file=sys.stderr)
+    horizons = _horizons(args.horizons)
+    if horizons is None:
         return 2
     try:
         source = open_source(args.source, fps=args.fps)
@@ -111,12 +109,45 @@ def _run(args: argparse.Namespace) -> int:
     except (FileNotFoundError, ValueError, ImportError, RuntimeError) as e:
         print(f"torsocast run: {e}", file=sys.stderr)
         return 2
-    summary = run(source, model, args.out, horizons, overlay=args.overlay)
-    print(summary)
-    print(
-        f"wrote {summary.out / 'frames.jsonl'}" + (f" and {summary.out / 'overlay'}/" if args.overlay else "")
+    from .topdown import TopDown
+
+    plot = TopDown()
+    summary = run(
+        source, model, args.out, horizons, overlay=args.overlay, observers=[plot] if args.plot else []
     )
+    print(summary)
+    written = [summary.out / "frames.jsonl"]
+    if args.overlay:
+        written.append(summary.out / "overlay")
+    if args.plot:
+        written.append(summary.out / "topdown.png")
+        plot.draw().save(written[-1])
+    print(f"wrote {', '.join(map(str, written))}")
     return 0
+
+
+def _demo(args: argparse.Namespace) -> int:
+    from .datasets.cmu import bundled_clips
+    from .demo import demo
+
+    horizons = _horizons(args.horizons)
+    if horizons is None:
+        return 2
+    try:
+        result = demo(args.out, args.clip, horizons, args.model, args.overlay)
+    except (FileNotFoundError, ValueError) as e:
+        print(f"torsocast demo: {e} (bundled clips: {', '.join(bundled_clips())})", file=sys.stderr)
+        return 2
+    print(result)
+    return 0
+
+
+def _horizons(text: str) -> list[float] | None:
+    try:
+        return [float(h) for h in text.split(",") if h]
+    except ValueError:
+        print(f"--horizons: expected comma-separated seconds, got {text!r}", file=sys.stderr)
+        return None
 
 
 def _is_number(text: str) -> bool:
@@ -131,6 +162,16 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="torsocast", description=__doc__)
     parser.add_argument("--version", action="version", version=__version__)
     sub = parser.add_subparsers(dest="command", required=True)
+    dm = sub.add_parser(
+        "demo",
+        help="the main job on a bundled mocap walk seen by a virtual RGB-D camera, against ground truth",
+    )
+    dm.add_argument("--clip", default="test_walking_1", help="bundled CMU walking clip, or a CMU clip file")
+    dm.add_argument("--model", help="ONNX keypoint model (default: the bundled MoveNet Lightning)")
+    dm.add_argument("--horizons", default="0.4,1.0", help="forecast horizons, seconds, comma-separated")
+    dm.add_argument("--out", default="demo", help="folder for frames.jsonl and demo.png")
+    dm.add_argument("--overlay", action="store_true", help="also draw every frame's result as a JPEG")
+    dm.set_defaults(run=_demo)
     rn = sub.add_parser("run", help="track and forecast every person in an RGB-D source")
     rn.add_argument("source", help="folder (TUM or NNNN_camera.xml layout), .npz recording, or video")
     rn.add_argument("--model", help="ONNX keypoint model (default: the bundled MoveNet Lightning)")
@@ -140,6 +181,7 @@ def main(argv: list[str] | None = None) -> int:
     rn.add_argument("--fps", type=float, default=30.0, help="frame rate of sources without time stamps")
     rn.add_argument("--out", default="out", help="folder for frames.jsonl and overlay/")
     rn.add_argument("--overlay", action="store_true", help="also draw every frame's result as a JPEG")
+    rn.add_argument("--plot", action="store_true", help="also draw the tracks from above (topdown.png)")
     rn.set_defaults(run=_run)
     bench = sub.add_parser("bench", help="measure forecast latency of every forecaster on this machine")
     bench.add_argument("--windows", type=int, default=2000, help="windows in the batch timing")

@@ -4,7 +4,7 @@ optionally overlay pictures), with frames per second and time per stage at the e
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -43,8 +43,10 @@ def run(
     horizons: Sequence[float] = (0.4, 1.0),
     overlay: bool = False,
     progress: bool = True,
+    observers: Sequence[Callable[[FrameResult], None]] = (),
 ) -> Summary:
-    """Writes ``out/frames.jsonl`` and, with ``overlay``, ``out/overlay/NNNNNN.jpg``."""
+    """Writes ``out/frames.jsonl`` and, with ``overlay``, ``out/overlay/NNNNNN.jpg``; every frame's
+    result is also handed to each of ``observers`` (a plot, an evaluation)."""
     out = Path(out)
     pipeline = Pipeline(model, horizons)
     bar = Progress(len(source), f"run {source.name}") if progress and len(source) else None
@@ -57,6 +59,8 @@ def run(
             ids.update(p.track_id for p in result.people if p.track_id is not None)
             if overlay:
                 save_overlay(result, out / "overlay")
+            for observe in observers:
+                observe(result)
             if bar:
                 bar(f"{len(result.detections)} people")
     return Summary(pipeline.frames, time.perf_counter() - start, pipeline.timing(), len(ids), out)

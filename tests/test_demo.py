@@ -1,0 +1,167 @@
+"""The demo's parts and the demo itself: CMU forward kinematics against SciPy and the skeleton's
+written facts, the mannequin renderer against closed forms, the top-down plot, and `torsocast
+demo` end to end against the mocap ground truth."""
+
+import json
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from conftest import shared_path
+from torsocast.camera import Camera, Intrinsics, level_camera
+from torsocast.cli import main
+from torsocast.datasets import cmu
+from torsocast.sources.mannequin import Scene, _capsule
+from torsocast.sources.mocap import MocapScene, watching_camera
+
+
+@pytest.fixture(scope="module")
+def walk():
+    return cmu.load_clip(cmu.bundled_clips()["test_walking_1"])
+
+
+def test_bundled_clips_are_the_shared_files_unchanged():
+    shared = shared_path("data", "cmu")
+    bundled = cmu.bundled_clips()
+    assert len(bundled) == 6
+    for name, path in bundled.items():
+        split, _, k = name.split("_")
+        assert path.read_bytes() == (shared / split / "walking" / f"walking_{k}.txt").read_bytes()
+
+
+def test_forward_kinematics_matches_a_scipy_rotation_chain():
+    rows = cmu.read_clip(cmu.bundled_clips()["train_walking_4"])[:5]
+    got = cmu.forward_kinematics(rows)
+    for f, row in enumerate(rows):
+        local = Rotation.from_rotvec(row[3:].reshape(38, 3)).as_matrix()
+        xyz, rot = np.zeros((38, 3)), [None] * 38
+        for j, p in enumerate(cmu.PARENTS):
+            if p < 0:
+                xyz[j], rot[j] = row[:3], local[0]
+            else:
+                xyz[j] = cmu.OFFSETS[j] @ rot[p] + xyz[p]
+                rot[j] = local[j] @ rot[p]
+        assert np.allclose(got[f], xyz, atol=1e-5)
+    # SKELETON.md: CMU 07_01 starts at root position (8.8721, 15.7511, -31.7081).
+    assert got[0, 0] == pytest.approx([8.8721, 15.7511, -31.7081])
+
+
+def test_a_walk_has_the_measured_proportions_and_faces_where_it_goes(walk):
+    # SKELETON.md section 8 and 9: widths in metres, 358 motion frames after the rest pose,
+    # 3.845 m of horizontal path (of 359 frames), the floor at z = 0 (the lowest joint of all
+    # files is 3.5 cm up; the toes of this one come to 4.6 cm).
+    shoulders = np.linalg.norm(walk[:, cmu.LEFT_SHOULDER] - walk[:, cmu.RIGHT_SHOULDER], axis=1)
+    hips = np.linalg.norm(walk[:, cmu.LEFT_HIP] - walk[:, cmu.RIGHT_HIP], axis=1)
+    assert shoulders == pytest.approx(7.0432 * cmu.UNIT_M, abs=1e-3)
+    assert hips == pytest.approx(3.2674 * cmu.UNIT_M, abs=1e-3)
+    assert len(walk) == 358 and 0.03 < walk[..., 2].min() < 0.05
+    steps = np.diff(walk[:, cmu.PELVIS, :2], axis=0)
+    assert np.linalg.norm(steps, axis=1).sum() == pytest.approx(3.845, abs=0.03)
+    # Forward = left x up in REP-103: the subject walks the way the chest faces.
+    left = walk[:, cmu.LEFT_HIP] - walk[:, cmu.RIGHT_HIP]
+    forward = np.cross(left, [0.0, 0.0, 1.0])[:, :2]
+    velocity = walk[12:, cmu.PELVIS, :2] - walk[:-12, cmu.PELVIS, :2]
+    cosine = (forward[6:-6] * velocity).sum(1) / np.linalg.norm(forward[6:-6], axis=1)
+    assert (cosine / np.linalg.norm(velocity, axis=1) > 0.9).all()
+
+
+def test_a_bad_clip_file_is_refused(tmp_path):
+    path = tmp_path / "short.txt"
+    path.write_text("1,2,3\n")
+    with pytest.raises(ValueError, match="117"):
+        cmu.read_clip(path)
+    with pytest.raises(FileNotFoundError):
+        MocapScene.from_clip(tmp_path / "none.txt")
+
+
+def test_capsules_render_at_their_closed_form_depth():
+    camera = Camera(Intrinsics(500.0, 500.0, 50.0, 50.0))
+    scene = Scene(width=101, height=101)
+    rays = scene.rays(camera)
+    depth, rgb = np.full((101, 101), np.inf), np.zeros((101, 101, 3))
+    # A sphere of 0.1 m at 2 m: the centre pixel sees its front at 1.9 m; 20 px off the axis
+    # (0.08 m at 2 m), the ray meets the sphere where z solves the quadratic.
+    _capsule(rays, camera, np.array([0.0, 0.0, 2.0]), np.array([0.0, 0.0, 2.0]), 0.1, (255, 0, 0), depth, rgb)
+    assert depth[50, 50] == pytest.approx(1.9, abs=1e-9)
+    d = rays[50, 70]
+    s = 2 * d[2] - np.sqrt((2 * d[2]) ** 2 - (4 - 0.01))
+    assert depth[50, 70] == pytest.approx(s * d[2], abs=1e-9)
+    assert np.isinf(depth[50, 80]) and tuple(rgb[50, 50]) == (255, 0, 0)
+    # A horizontal rod in front of it hides it, at the rod's radius from its axis.
+    _capsule(
+        rays, camera, np.array([-0.5, 0.0, 1.5]), np.array([0.5, 0.0, 1.5]), 0.05, (0, 0, 255), depth, rgb
+    )
+    assert depth[50, 50] == pytest.approx(1.45, abs=1e-9) and tuple(rgb[50, 50]) == (0, 0, 255)
+
+
+def test_the_floor_is_at_its_closed_form_depth():
+    camera = Camera(Intrinsics(300.0, 300.0, 80.0, 60.0), level_camera(1.5, 0.0))
+    scene = Scene(width=161, height=121, noise=0.0)
+    rgb, depth = scene.background(camera, scene.rays(camera))
+    # A level camera 1.5 m up sees the floor at optical depth z where 1.5 / z = (v - cy) / fy.
+    assert depth[110, 80] == pytest.approx(1.5 * 300.0 / 50.0)
+    assert np.isinf(depth[40, 80])  # above the horizon: sky
+
+
+def test_the_scene_source_renders_the_walker_where_the_truth_is(walk):
+    source = MocapScene(walk, fps=10.0, scene=Scene(noise=0.0))
+    frames = list(source)
+    assert len(frames) == len(source) == 30 and frames[1].time == pytest.approx(0.1)
+    world_to_camera = np.linalg.inv(source.camera.camera_to_world)
+    for frame in frames[::7]:
+        centre = frame.extra["truth"][:3]
+        optical = world_to_camera[:3, :3] @ centre + world_to_camera[:3, 3]
+        u, v = np.round(source.camera.intrinsics.project(optical)).astype(int)
+        # The chest's surface, a torso's half-depth (under 0.2 m) in front of the plane's centre.
+        assert 0.0 < optical[2] - frame.depth[v, u] < 0.2
+
+
+def test_the_demo_camera_sees_the_walk_come_towards_it(walk):
+    camera = watching_camera(walk[:, cmu.PELVIS])
+    position = np.asarray(camera.camera_to_world)[:3, 3]
+    distance = np.linalg.norm(walk[:, cmu.PELVIS, :2] - position[:2], axis=1)
+    assert distance[0] > distance[-1] > 1.5 and position[2] == pytest.approx(1.2)
+
+
+def test_demo_runs_on_bundled_data_and_matches_the_truth(tmp_path, capsys):
+    assert main(["demo", "--out", str(tmp_path)]) == 0
+    printed = capsys.readouterr().out
+    lines = [json.loads(line) for line in (tmp_path / "frames.jsonl").read_text().splitlines()]
+    assert len(lines) == 90 and (tmp_path / "demo.png").stat().st_size > 10_000
+    # Measured on test_walking_1 with the bundled MoveNet: azimuth error median 3.8 deg, 90th
+    # percentile 7.4 deg, centre 8 cm; forecast centre error 0.4 s ahead 14 cm against 45 cm for
+    # holding still, 1 s ahead 51 against 121 cm.
+    median = float(printed.split("azimuth error median ")[1].split(" deg")[0])
+    p90 = float(printed.split("90th percentile ")[1].split(" deg")[0])
+    assert median < 6.0 and p90 < 12.0
+    rows = [
+        line.split("|")
+        for line in printed.splitlines()
+        if line.startswith("| 0.4 s") or line.startswith("| 1 s")
+    ]
+    for row in rows:
+        forecast, held = (float(row[k].split()[0]) for k in (3, 4))
+        assert forecast < 0.6 * held
+    assert len(rows) == 2
+
+
+def test_demo_refuses_an_unknown_clip(tmp_path, capsys):
+    assert main(["demo", "--clip", "no_such_clip", "--out", str(tmp_path)]) == 2
+    assert "bundled clips: test_walking_1" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("axis", [0, 1])
+def test_the_top_down_plot_draws_a_walk_along_its_world_axis(axis):
+    from torsocast.overlay import COLOURS
+    from torsocast.topdown import TopDown, TrackHistory
+
+    poses = np.zeros((20, 5))
+    poses[:, axis] = np.linspace(0.0, 3.0, 20)
+    poses[:, 3] = np.pi / 2 * axis  # facing along the walk
+    plot = TopDown(tracks={1: TrackHistory(list(np.arange(20) / 10), list(poses))})
+    image = np.asarray(plot.draw(size=200))
+    rows, cols = np.nonzero((image == COLOURS[1]).all(axis=2))
+    width, height = np.ptp(cols), np.ptp(rows)
+    # 3 m of walk across the plot's (3 + 2 * 0.7) m: about 130 of 200 pixels along its axis.
+    assert (width, height)[axis] > 120 and (width, height)[1 - axis] < 40
