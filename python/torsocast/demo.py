@@ -120,8 +120,8 @@ def demo(
     progress: bool = True,
 ) -> DemoResult:
     """Runs the pipeline on a bundled walk (``clip``: a bundled name or a CMU file) and writes
-    ``out/frames.jsonl`` and ``out/demo.png`` (the last frame with its forecast beside the
-    top-down plot)."""
+    ``out/frames.jsonl`` and ``out/demo.png`` (the latest frame whose forecasts could all be
+    checked, beside the top-down plot)."""
     out = Path(out)
     source = MocapScene.from_clip(clip)
     check = TruthCheck(torso_truth(source.joints), source.rate_hz, list(horizons))
