@@ -73,6 +73,12 @@ def test_a_bad_clip_file_is_refused(tmp_path):
         cmu.read_clip(path)
     with pytest.raises(FileNotFoundError):
         MocapScene.from_clip(tmp_path / "none.txt")
+    with pytest.raises(ValueError, match="38, 3"):
+        MocapScene(np.zeros((10, 17, 3)))
+    with pytest.raises(ValueError, match="finite"):
+        MocapScene(np.full((10, 38, 3), np.nan))
+    with pytest.raises(ValueError, match="fps"):
+        MocapScene(np.zeros((10, 38, 3)), fps=240.0)
 
 
 def test_capsules_render_at_their_closed_form_depth():
