@@ -20,9 +20,10 @@ from PIL import Image, ImageDraw
 
 from . import wrap_angle
 from .keypoints import open_model
+from .overlay import draw
 from .pipeline import FrameResult
 from .run import Summary, run
-from .sources.mocap import MocapScene, torso_truth
+from .sources.mocap import MocapScene
 from .topdown import FONT, TopDown
 
 F64 = npt.NDArray[np.float64]
@@ -124,7 +125,7 @@ def demo(
     checked, beside the top-down plot)."""
     out = Path(out)
     source = MocapScene.from_clip(clip)
-    check = TruthCheck(torso_truth(source.joints), source.rate_hz, list(horizons))
+    check = TruthCheck(source.truth, source.rate_hz, list(horizons))
     plot = TopDown(source.camera)
     summary = run(source, open_model(model), out, horizons, overlay, progress, observers=(check, plot))
     picture = out / "demo.png"
@@ -135,8 +136,6 @@ def demo(
 def compose(result: FrameResult | None, plot: Image.Image, title: str) -> Image.Image:
     """The camera's view of ``result`` (with keypoints, torso normal and forecast heading) beside
     the top-down ``plot``, scaled to the same height, with a caption."""
-    from .overlay import draw
-
     view = draw(result) if result is not None else Image.new("RGB", plot.size, (255, 255, 255))
     view = view.resize((round(view.width * plot.height / view.height), plot.height))
     caption = 24

@@ -73,7 +73,9 @@ class MocapScene:
             self.camera = watching_camera(j[:, cmu.PELVIS])
         self.picks = np.arange(0, len(j), self.rate_hz / self.fps).round().astype(int)
         self.picks = self.picks[self.picks < len(j)]
-        self.truth = torso_truth(j[self.picks])
+        # The true torso pose at every mocap sample, not only at the rendered ones: a forecast is
+        # checked against the instant it aims at.
+        self.truth = torso_truth(j)
 
     @classmethod
     def from_clip(cls, clip: str | Path, **kwargs) -> MocapScene:  # type: ignore[no-untyped-def]
@@ -95,4 +97,4 @@ class MocapScene:
         background = self.scene.background(self.camera, rays)
         for index, k in enumerate(self.picks):
             rgb, depth = self.scene.render(self.joints[k], self.camera, rng, rays, background)
-            yield Frame(index, k / self.rate_hz, rgb, depth, self.camera, {"truth": self.truth[index]})
+            yield Frame(index, k / self.rate_hz, rgb, depth, self.camera, {"truth": self.truth[k]})
