@@ -6,7 +6,7 @@ import pytest
 
 import torsocast as tc
 from torsocast.keypoints import coco
-from torsocast.track import Track, swap_sides
+from torsocast.track import Track
 from torsocast.tracker import Tracker, TrackerConfig
 
 CAMERA = np.zeros(3)  # camera at the world origin, people in front of it along +x
@@ -33,6 +33,15 @@ def person(centre, yaw, hips=True):
     faces_camera = forward @ (CAMERA - c) > 0
     scores[coco.NOSE] = 0.9 if faces_camera else 0.05
     return joints, scores
+
+
+def swap_sides(values):
+    """The rows of ``values`` with every left/right pair exchanged, as a detector seeing a back
+    labels them."""
+    out = values.copy()
+    for left, right in coco.LEFT_RIGHT_PAIRS:
+        out[[left, right]] = values[[right, left]]
+    return out
 
 
 def test_a_turning_person_gets_the_plane_azimuth_and_a_back_view_is_unswapped():
@@ -82,7 +91,7 @@ def test_frames_faster_than_the_grid_are_skipped_and_gaps_are_filled():
     # 30 fps onto 25 Hz slots 0, 1, 2, 3, 3 (skipped), then slot 7 after three empty slots.
     assert [g["skipped"] for g in grid] == [False, False, False, False, True, False]
     assert grid[-1]["filled"] == 3 and not grid[-1]["restarted"]
-    assert len(track.forecaster) == 8
+    assert track.samples == 8
 
 
 def test_gate_replaces_a_jumping_joint():
@@ -140,3 +149,50 @@ def test_tracker_drops_tracks_and_refuses_far_matches():
     assert results[0].track_id == 2
     tracker.update(0.5, np.zeros((0, 17, 3)), np.zeros((0, 17)), CAMERA)
     assert tracker.tracks == []
+
+
+def test_a_frame_that_goes_back_in_time_is_refused_and_changes_nothing():
+    tracker = Tracker(TrackerConfig(min_hits=1))
+    joints, scores = walkers(0.0)
+    tracker.update(0.0, joints, scores, CAMERA)
+    tracker.update(0.04, joints, scores, CAMERA)
+    before = [(t.id, t.samples, t.last_time) for t in tracker.tracks]
+    for t in (0.04, 0.02):
+        with pytest.raises(tc.TimeNotIncreasingError, match="not after"):
+            tracker.update(t, joints + 5.0, scores, CAMERA)
+    assert [(t.id, t.samples, t.last_time) for t in tracker.tracks] == before
+    with pytest.raises(tc.TimeNotIncreasingError):  # the core refuses it too, track by track
+        tracker.tracks[0].update(0.0, joints[0], scores[0], CAMERA)
+
+
+def test_detection_centres_prefer_the_torso_and_mark_empty_detections():
+    from torsocast.tracker import detection_centres
+
+    joints, scores = walkers(0.4)
+    joints[1, list(coco.TORSO)] = np.nan  # only the nose of person b is seen
+    scores[2] = 0.0  # nothing of person c is believed
+    centres = detection_centres(joints, scores, 0.3)
+    assert centres[0] == pytest.approx(joints[0, list(coco.TORSO)].mean(axis=0))
+    assert centres[1] == pytest.approx(joints[1, coco.NOSE])
+    assert np.isnan(centres[2]).all()
+    assert detection_centres(np.zeros((0, 17, 3)), np.zeros((0, 17)), 0.3).shape == (0, 3)
+
+
+def test_the_core_person_refuses_bad_shapes_and_values_without_changing_state():
+    p = tc.Person()
+    joints, scores = person([2.0, 0.0, 1.0], 3.0)
+    p.update(0.0, joints, scores, CAMERA)
+    with pytest.raises(tc.ShapeError, match="joints"):
+        p.update(0.04, joints[:16], scores, CAMERA)
+    with pytest.raises(tc.ShapeError, match="scores"):
+        p.update(0.04, joints, scores[:16], CAMERA)
+    with pytest.raises(tc.NonFiniteError, match="camera_position"):
+        p.update(0.04, joints, scores, [np.nan, 0.0, 0.0])
+    with pytest.raises(tc.InvalidArgumentError, match="swap_ratio"):
+        tc.Person(swap_ratio=2.0)
+    assert len(p) == 1 and p.last_time == 0.0
+    obs = p.update(0.04, joints.astype(np.float32), scores.tolist(), (0, 0, 0))  # any array-like
+    assert obs.estimate == "plane" and obs.grid == {"filled": 0, "restarted": False, "skipped": False}
+    assert obs.joints.shape == (17, 3) and np.isnan(obs.joints[13]).all()  # a knee: never seen
+    assert "plane" in repr(obs)
+    assert p.forecaster.cutoff_hz == tc.ForecasterConfig.live().cutoff_hz == 1.0

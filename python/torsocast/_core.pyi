@@ -19,6 +19,8 @@ __all__ = [
     "NonFiniteError",
     "NotEnoughHistoryError",
     "NotPositiveDefiniteError",
+    "Observation",
+    "Person",
     "ShapeError",
     "TimeNotIncreasingError",
     "TooFewJointsError",
@@ -160,6 +162,8 @@ class ForecasterConfig:
     def damping(self) -> list[float] | None: ...
     @property
     def capacity(self) -> int: ...
+    @staticmethod
+    def live() -> ForecasterConfig: ...
 
 @final
 class Forecaster:
@@ -181,3 +185,45 @@ class Forecaster:
 def forecast_batch(
     histories: _ArrayLike, horizons: Sequence[float], config: ForecasterConfig | None = None
 ) -> _F64: ...
+
+@final
+class Person:
+    def __new__(
+        cls,
+        forecaster: ForecasterConfig | None = None,
+        *,
+        gate_threshold: float = 0.1,
+        gate_max_replacements: int = 10,
+        min_score: float = 0.3,
+        swap_ratio: float = 0.5,
+        min_swap_motion: float = 0.1,
+        face_score: float = 0.3,
+    ) -> Person: ...
+    def update(
+        self, t: float, joints: _ArrayLike, scores: _ArrayLike, camera_position: _ArrayLike
+    ) -> Observation: ...
+    def forecast(self, horizons: Sequence[float]) -> _F64 | None: ...
+    def __len__(self) -> int: ...
+    @property
+    def last_time(self) -> float | None: ...
+    @property
+    def min_samples(self) -> int: ...
+    @property
+    def forecaster(self) -> ForecasterConfig: ...
+
+@final
+class Observation:
+    @property
+    def pose(self) -> _F64 | None: ...
+    @property
+    def estimate(self) -> Literal["plane", "shoulders", "none"]: ...
+    @property
+    def swapped(self) -> bool: ...
+    @property
+    def joints(self) -> _F64: ...
+    @property
+    def joint_status(self) -> npt.NDArray[np.uint8]: ...
+    @property
+    def weight(self) -> float: ...
+    @property
+    def grid(self) -> dict[str, int | bool]: ...

@@ -15,6 +15,7 @@ import numpy as np
 import numpy.typing as npt
 from scipy.optimize import linear_sum_assignment
 
+from ._core import TimeNotIncreasingError
 from .keypoints import coco
 from .track import F64, Observation, Track, TrackConfig
 
@@ -31,16 +32,17 @@ class TrackerConfig:
     track: TrackConfig = field(default_factory=TrackConfig)
 
 
-def detection_centre(joints: F64, scores: F64, min_score: float) -> F64 | None:
-    """Where a detection is, for association: the mean of its seen torso joints, else of every
-    seen joint; None when it has no 3D joint at all."""
-    seen = np.isfinite(joints).all(axis=1) & (scores >= min_score)
-    torso = np.zeros(17, dtype=bool)
-    torso[list(coco.TORSO)] = True
-    for subset in (seen & torso, seen):
-        if subset.any():
-            return joints[subset].mean(axis=0)  # type: ignore[no-any-return]
-    return None
+_TORSO_MASK = np.isin(np.arange(17), coco.TORSO)
+
+
+def detection_centres(joints: F64, scores: F64, min_score: float) -> F64:
+    """Where each detection is, for association: ``(people, 3)``, the mean of its seen torso
+    joints, else of every seen joint; a NaN row for a detection with no 3D joint at all."""
+    seen = np.isfinite(joints).all(axis=2) & (scores >= min_score)
+    use = np.where((seen & _TORSO_MASK).any(axis=1)[:, None], seen & _TORSO_MASK, seen)
+    total = np.where(use[..., None], joints, 0.0).sum(axis=1)
+    with np.errstate(invalid="ignore"):  # 0 / 0 for a detection with nothing seen: NaN, wanted
+        return total / use.sum(axis=1)[:, None]  # type: ignore[no-any-return]
 
 
 @dataclass
@@ -72,27 +74,32 @@ class Tracker:
         self.slots: list[Slot] = []
         self.next_id = 1
         self._tentative = -1  # tentative tracks count down from -1; ids are given at confirmation
+        self.last_t: float | None = None
 
     def update(
         self, t: float, joints: npt.NDArray[np.float64], scores: npt.NDArray[np.float64], camera_position: F64
     ) -> list[Result]:
         """One frame: ``joints (people, 17, 3)`` in the world frame and their ``scores``."""
         c = self.config
-        centres = [detection_centre(j, s, c.track.min_score) for j, s in zip(joints, scores)]
-        placeable = [i for i, x in enumerate(centres) if x is not None]
-        pairs = self.associate([centres[i] for i in placeable])  # type: ignore[misc]
+        if self.last_t is not None and not t > self.last_t:
+            raise TimeNotIncreasingError(f"frame time {t} s is not after the last frame's {self.last_t} s")
+        self.last_t = t
+        centres = detection_centres(joints, scores, c.track.min_score)
+        placeable = np.flatnonzero(np.isfinite(centres[:, 0])).tolist()
+        pairs = self.associate(centres[placeable])
         matched = {placeable[d]: s for s, d in pairs}
         results = [Result(i, None, None, None) for i in range(len(joints))]
         for d in placeable:
             slot = matched.get(d)
             if slot is None:
-                slot = Slot(Track(self._tentative, c.track), centres[d], hits=0)  # type: ignore[arg-type]
+                slot = Slot(Track(self._tentative, c.track), centres[d], hits=0)
                 self._tentative -= 1
                 self.slots.append(slot)
             obs = slot.track.update(t, joints[d], scores[d], camera_position)
             slot.hits += 1
             slot.last_seen = t
-            slot.centre = obs.pose[:3] if obs.pose is not None else centres[d]  # type: ignore[assignment]
+            pose = obs.pose
+            slot.centre = pose[:3] if pose is not None else centres[d]
             if not slot.confirmed and slot.hits >= c.min_hits:
                 slot.confirmed = True
                 slot.track.id = self.next_id
@@ -103,12 +110,12 @@ class Tracker:
         ]
         return results
 
-    def associate(self, centres: list[F64]) -> list[tuple[Slot, int]]:
-        """Optimal (slot, detection) pairs within the gate distance."""
-        if not self.slots or not centres:
+    def associate(self, centres: F64) -> list[tuple[Slot, int]]:
+        """Optimal (slot, detection) pairs within the gate distance; ``centres (n, 3)``."""
+        if not self.slots or not len(centres):
             return []
         tracks = np.array([s.centre for s in self.slots])
-        cost = np.linalg.norm(tracks[:, None, :] - np.array(centres)[None, :, :], axis=2)
+        cost = np.linalg.norm(tracks[:, None, :] - centres[None, :, :], axis=2)
         rows, cols = linear_sum_assignment(np.where(cost <= self.config.gate, cost, 1e6))
         return [(self.slots[r], int(k)) for r, k in zip(rows, cols) if cost[r, k] <= self.config.gate]
 

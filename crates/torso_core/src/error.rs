@@ -78,7 +78,7 @@ impl fmt::Display for Error {
             ),
             Error::TimeNotIncreasing { previous, got } => write!(
                 f,
-                "`t` = {got} s is not on a later grid slot than the previous sample at {previous} s; time stamps must increase by at least half a grid step"
+                "`t` = {got} s is not after the previous time stamp {previous} s (a forecaster also needs it on a later slot of its fixed-rate grid: at least half a grid step later)"
             ),
         }
     }

@@ -8,7 +8,7 @@
 //! z up); a missing joint is NaN; azimuth is unwrapped inside the forecaster.
 //!
 //! No I/O and no Python: other Rust robot code can depend on this crate directly. Objects that
-//! run per frame ([`Forecaster`], [`JointGate`], [`SmoothingSpline`], [`LowPass`],
+//! run per frame ([`Person`], [`Forecaster`], [`JointGate`], [`SmoothingSpline`], [`LowPass`],
 //! [`ZeroPhase`]) size every buffer at construction and never allocate afterwards.
 //!
 //! ```
@@ -36,10 +36,12 @@
 pub mod banded;
 pub mod bspline;
 pub mod butterworth;
+pub mod coco;
 pub mod error;
 pub mod forecaster;
 pub mod gating;
 pub mod history;
+pub mod person;
 pub mod plane;
 pub mod smoothing;
 
@@ -51,6 +53,7 @@ pub use forecaster::{
 };
 pub use gating::{GateConfig, JointGate, JointStatus};
 pub use history::UpdateReport;
+pub use person::{Estimate, GridReport, Observation, Person, PersonConfig};
 pub use plane::{
     fit_torso_plane, fit_torso_plane_with, fit_torso_planes, shoulder_heading, ShoulderHeading,
     Side, TorsoPlane, MIN_ORIENTATION_COSINE, MIN_PLANARITY,

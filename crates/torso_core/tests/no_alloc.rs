@@ -173,3 +173,45 @@ fn per_frame_helpers_never_allocate() {
     });
     assert_eq!(count, 0);
 }
+
+#[test]
+fn a_tracked_person_never_allocates_per_frame() {
+    use torso_core::coco::{Joints, N_JOINTS};
+    let mut person = Person::new(PersonConfig::default()).unwrap();
+    let mut out = [[0.0; 5]; 2];
+    // Build the first frames outside the count: the forecaster's history fills up, then every
+    // branch (plane, shoulders only, a swapped frame, a jumping joint, a gap) runs counted.
+    let frame = |k: usize| -> (Joints, [f64; N_JOINTS]) {
+        let x = 2.0 + 0.02 * k as f64;
+        let joints = std::array::from_fn(|j| {
+            let side = match j {
+                0 => 0.0,
+                _ if j % 2 == 1 => 0.18,
+                _ => -0.18,
+            };
+            [x, side, 1.7 - 0.1 * j as f64]
+        });
+        (joints, [0.9; N_JOINTS])
+    };
+    for k in 0..60 {
+        let (joints, scores) = frame(k);
+        person
+            .update(k as f64 * 0.04, &joints, &scores, [0.0; 3])
+            .unwrap();
+    }
+    let count = allocations_during(|| {
+        for k in 60..120 {
+            let (mut joints, mut scores) = frame(k);
+            match k % 4 {
+                0 => scores[11..13].fill(0.0), // no hips: shoulders only
+                1 => joints[11][0] += 0.5,     // a jumping joint
+                2 => coco::swap_sides(&mut joints),
+                _ => {}
+            }
+            let t = k as f64 * 0.04 + if k >= 100 { 0.2 } else { 0.0 };
+            person.update(t, &joints, &scores, [0.0; 3]).unwrap();
+            person.forecast(&[0.4, 1.0], &mut out).unwrap();
+        }
+    });
+    assert_eq!(count, 0);
+}

@@ -64,7 +64,7 @@ create_exception!(
     _core,
     TimeNotIncreasingError,
     TorsocastError,
-    "A time stamp not on a later grid slot."
+    "A time stamp that does not increase (or lands on the previous grid slot)."
 );
 
 /// The Python exception for a core error, with the core's message (which names the argument).

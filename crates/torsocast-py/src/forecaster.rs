@@ -209,6 +209,13 @@ impl ForecasterConfig {
         self.inner.capacity()
     }
 
+    /// live() -> ForecasterConfig: the thesis' forecaster with the low-pass on all five
+    /// components at 1 Hz, for poses from a keypoint detector (what tracking uses).
+    #[staticmethod]
+    fn live() -> Self {
+        Self::live_config()
+    }
+
     fn __repr__(&self) -> String {
         let grid = format!(
             "rate_hz={}, history={}, max_gap={}, fast_path={}",
@@ -255,10 +262,24 @@ fn config_or_default(config: Option<PyRef<'_, ForecasterConfig>>) -> torso_core:
 impl ForecasterConfig {
     /// The thesis defaults, as `ForecasterConfig()` gives them.
     fn default_config() -> Self {
+        Self::from_core(torso_core::ForecasterConfig::default())
+    }
+
+    /// The core's configuration for detector input, as `ForecasterConfig.live()` gives it.
+    pub fn live_config() -> Self {
+        Self::from_core(torso_core::ForecasterConfig::live())
+    }
+
+    fn from_core(inner: torso_core::ForecasterConfig) -> Self {
+        let (spline, velocity_window) = match inner.method {
+            Method::FilterSpline(s) => (s, None),
+            Method::ConstantVelocity { window } => (FilterSplineConfig::default(), window),
+            Method::Const => (FilterSplineConfig::default(), None),
+        };
         Self {
-            inner: torso_core::ForecasterConfig::default(),
-            spline: FilterSplineConfig::default(),
-            velocity_window: None,
+            inner,
+            spline,
+            velocity_window,
         }
     }
 }

@@ -6,6 +6,7 @@ mod errors;
 mod filter;
 mod forecaster;
 mod gating;
+mod person;
 mod plane;
 mod spline;
 
@@ -27,6 +28,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<forecaster::ForecasterConfig>()?;
     m.add_class::<forecaster::Forecaster>()?;
     m.add_function(wrap_pyfunction!(forecaster::forecast_batch, m)?)?;
+    m.add_class::<person::Person>()?;
+    m.add_class::<person::Observation>()?;
     m.add("MAX_DEGREE", torso_core::bspline::MAX_DEGREE)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

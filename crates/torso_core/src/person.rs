@@ -1,0 +1,627 @@
+//! One tracked person: the thesis' per-person chain (section 3.2) on the 17 COCO keypoints of a
+//! 2D detector, lifted to 3D in the world frame.
+//!
+//! Each frame: undo a left/right swap of the detector, gate every joint against its previous
+//! position relative to the body's motion, fit the torso plane (or, without enough torso joints,
+//! take the azimuth from the shoulders), and feed the pose to the person's forecaster on its
+//! fixed-rate grid. Everything is on the stack or sized at construction.
+
+use crate::coco::{self, Joints, N_JOINTS, TORSO, TORSO_SIDES};
+use crate::error::{Error, Result};
+use crate::{
+    fit_torso_plane, shoulder_heading, Forecaster, ForecasterConfig, GateConfig, JointGate,
+    JointStatus, Pose, AZIMUTH, ELEVATION,
+};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+/// How far below the shoulders' midpoint the torso centre sits before the track has measured it
+/// (half the shoulder-to-hip distance of an adult), in metres.
+pub const SHOULDER_TO_CENTRE: f64 = 0.25;
+
+/// `|cos|` between the torso normal and the direction to the camera under which a new track's
+/// view counts as a side view, where neither the face nor the normal tells front from back.
+pub const SIDE_VIEW_COSINE: f64 = 0.3;
+
+/// Per-person parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PersonConfig {
+    pub forecaster: ForecasterConfig,
+    /// The gate's threshold applies to a joint's motion relative to the body's (see
+    /// [`Person::update`]). Thesis: 0.10 m at about 25 frames per second.
+    pub gate: GateConfig,
+    /// Keypoints scored below this are missing.
+    pub min_score: f64,
+    /// A frame's left/right labels are swapped back when the swapped pairing moves the joints
+    /// less than this fraction of the labelled one…
+    pub swap_ratio: f64,
+    /// …and the labelled pairing moves them more than this (m): below it the two are noise.
+    pub min_swap_motion: f64,
+    /// A face keypoint above this score means the face is seen (used when a track starts).
+    pub face_score: f64,
+}
+
+impl Default for PersonConfig {
+    fn default() -> Self {
+        Self {
+            forecaster: ForecasterConfig::live(),
+            gate: GateConfig::default(),
+            min_score: 0.3,
+            swap_ratio: 0.5,
+            min_swap_motion: 0.10,
+            face_score: 0.3,
+        }
+    }
+}
+
+impl PersonConfig {
+    /// Checks every field, as [`Person::new`] does.
+    pub fn validate(&self) -> Result<()> {
+        self.forecaster.validate()?;
+        JointGate::new(N_JOINTS, self.gate)?;
+        for (name, value) in [
+            ("min_score", self.min_score),
+            ("face_score", self.face_score),
+        ] {
+            if !value.is_finite() {
+                return Err(Error::InvalidArgument {
+                    name,
+                    expected: "a finite keypoint score",
+                    value,
+                });
+            }
+        }
+        if !(self.swap_ratio > 0.0 && self.swap_ratio <= 1.0) {
+            return Err(Error::InvalidArgument {
+                name: "swap_ratio",
+                expected: "a fraction in (0, 1]",
+                value: self.swap_ratio,
+            });
+        }
+        if !(self.min_swap_motion.is_finite() && self.min_swap_motion >= 0.0) {
+            return Err(Error::InvalidArgument {
+                name: "min_swap_motion",
+                expected: "a finite, non-negative distance in metres",
+                value: self.min_swap_motion,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Where a frame's pose came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u8)]
+pub enum Estimate {
+    /// Nothing to estimate it from: no pose this frame.
+    None = 0,
+    /// The torso plane through at least three torso joints.
+    Plane = 1,
+    /// The shoulder line and gravity (azimuth only; the elevation is held).
+    Shoulders = 2,
+}
+
+/// What the forecaster's time grid did with a frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct GridReport {
+    /// Slots interpolated before this sample.
+    pub filled: usize,
+    /// The history was cleared after a gap longer than the forecaster's `max_gap`.
+    pub restarted: bool,
+    /// A faster camera than the grid: the frame's slot already had a sample, so it was not added.
+    pub skipped: bool,
+}
+
+/// What a person's track made of one frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Observation {
+    /// `[x, y, z, azimuth, elevation]` in the world frame, azimuth wrapped to (-π, π]; `None`
+    /// when there was nothing to estimate it from.
+    pub pose: Option<Pose>,
+    pub estimate: Estimate,
+    /// The detector's left and right labels were swapped back in this frame.
+    pub swapped: bool,
+    /// The joints after the swap and the gate (NaN where lost).
+    pub joints: Joints,
+    pub status: [JointStatus; N_JOINTS],
+    /// Confidence weight given to the forecaster: mean score of the torso joints used, a joint
+    /// held over from the previous frame at half its score.
+    pub weight: f64,
+    pub grid: GridReport,
+}
+
+/// One person's state across frames.
+#[derive(Clone, Debug)]
+pub struct Person {
+    config: PersonConfig,
+    gate: JointGate,
+    forecaster: Forecaster,
+    last_t: Option<f64>,
+    previous: Option<Joints>,
+    /// Summed median displacement of the body since the track began: the gate works relative to it.
+    body_motion: [f64; 3],
+    /// Plane centre minus shoulder midpoint, learned while both are seen.
+    centre_offset: Option<[f64; 3]>,
+    /// Last pose, for the elevation that a shoulders-only frame holds.
+    last_pose: Option<Pose>,
+}
+
+impl Person {
+    pub fn new(config: PersonConfig) -> Result<Self> {
+        config.validate()?;
+        Ok(Self {
+            config,
+            gate: JointGate::new(N_JOINTS, config.gate)?,
+            forecaster: Forecaster::new(config.forecaster)?,
+            last_t: None,
+            previous: None,
+            body_motion: [0.0; 3],
+            centre_offset: None,
+            last_pose: None,
+        })
+    }
+
+    pub fn config(&self) -> &PersonConfig {
+        &self.config
+    }
+
+    /// The person's forecaster (its history, grid time and sample count).
+    pub fn forecaster(&self) -> &Forecaster {
+        &self.forecaster
+    }
+
+    /// One frame at time `t` (s): `joints` in the world frame (NaN where missing), their detector
+    /// `scores`, and where the camera is (for a new track's front/back decision). A time stamp
+    /// that does not increase, or a non-finite camera position, is refused before any state
+    /// changes.
+    pub fn update(
+        &mut self,
+        t: f64,
+        joints: &Joints,
+        scores: &[f64; N_JOINTS],
+        camera_position: [f64; 3],
+    ) -> Result<Observation> {
+        if !t.is_finite() {
+            return Err(Error::NonFinite {
+                name: "t",
+                index: 0,
+            });
+        }
+        if let Some(index) = camera_position.iter().position(|v| !v.is_finite()) {
+            return Err(Error::NonFinite {
+                name: "camera_position",
+                index,
+            });
+        }
+        if let Some(previous) = self.last_t.filter(|&p| !(t > p)) {
+            return Err(Error::TimeNotIncreasing { previous, got: t });
+        }
+        self.last_t = Some(t);
+
+        let mut joints = *joints;
+        let mut scores = *scores;
+        for (x, &s) in joints.iter_mut().zip(&scores) {
+            if !(s >= self.config.min_score) || !finite(x) {
+                *x = [f64::NAN; 3];
+            }
+        }
+        let swapped = self.labels_swapped(&joints, &scores, camera_position);
+        if swapped {
+            coco::swap_sides(&mut joints);
+            coco::swap_sides(&mut scores);
+        }
+        let status = self.gate(&mut joints);
+        self.previous = Some(joints);
+
+        let (pose, estimate, weight) = self.torso_pose(&joints, &status, &scores);
+        let mut grid = GridReport::default();
+        if let Some(pose) = pose {
+            let half_step = 0.5 / self.config.forecaster.rate_hz;
+            match self.forecaster.last_time() {
+                Some(last) if t - last < half_step => grid.skipped = true,
+                _ => {
+                    let report = self.forecaster.update(pose, t, weight)?;
+                    grid.filled = report.filled;
+                    grid.restarted = report.restarted;
+                }
+            }
+            self.last_pose = Some(pose);
+        }
+        Ok(Observation {
+            pose: pose.map(|mut p| {
+                p[AZIMUTH] = wrap_angle(p[AZIMUTH]);
+                p
+            }),
+            estimate,
+            swapped,
+            joints,
+            status,
+            weight,
+            grid,
+        })
+    }
+
+    /// Forecasts `horizons[h]` seconds after the forecaster's last grid sample into `out[h]`,
+    /// azimuth wrapped to (-π, π]. `Ok(false)` (and `out` untouched) until the history holds
+    /// enough samples.
+    pub fn forecast(&mut self, horizons: &[f64], out: &mut [Pose]) -> Result<bool> {
+        if self.forecaster.len() < self.forecaster.min_samples() {
+            return Ok(false);
+        }
+        self.forecaster.forecast(horizons, out)?;
+        for pose in out.iter_mut() {
+            pose[AZIMUTH] = wrap_angle(pose[AZIMUTH]);
+        }
+        Ok(true)
+    }
+
+    /// Whether this frame's labels must be exchanged. With a previous frame, the pairing that
+    /// moves the joints less wins; a new track has none, so the face decides: a detector that
+    /// sees a back without a face usually labels it as a front, so a plane facing the camera
+    /// with no face in sight is taken as swapped (and a face on a plane facing away, too).
+    fn labels_swapped(&self, joints: &Joints, scores: &[f64; N_JOINTS], camera: [f64; 3]) -> bool {
+        let c = &self.config;
+        if let Some((same, crossed)) = self.previous.as_ref().and_then(|p| pair_motion(joints, p)) {
+            return same > c.min_swap_motion && crossed < c.swap_ratio * same;
+        }
+        let torso = TORSO.map(|i| joints[i]);
+        let Ok(plane) = fit_torso_plane(&torso, &TORSO_SIDES, None) else {
+            return false;
+        };
+        let to_camera = sub(camera, plane.centre);
+        let facing = dot(plane.normal, to_camera) / norm(to_camera);
+        if !(facing.abs() >= SIDE_VIEW_COSINE) {
+            return false;
+        }
+        let face_seen = coco::FACE.iter().any(|&i| scores[i] > c.face_score);
+        face_seen != (facing > 0.0)
+    }
+
+    /// The gate applied to the joints' motion relative to the body's: at 1.3 m/s and 30 frames
+    /// per second every joint of a walker moves 4 cm a frame, and an absolute gate holds a
+    /// rejected joint still while the body walks away from it until it is lost. The body's
+    /// motion is the median displacement of the joints seen in this frame and the last, robust
+    /// to the one joint that jumps and unaffected by which joints happen to be seen.
+    fn gate(&mut self, joints: &mut Joints) -> [JointStatus; N_JOINTS] {
+        if let Some(step) = self.previous.as_ref().and_then(|p| median_step(joints, p)) {
+            for k in 0..3 {
+                self.body_motion[k] += step[k];
+            }
+        }
+        for x in joints.iter_mut() {
+            *x = sub(*x, self.body_motion);
+        }
+        let mut status = [JointStatus::Lost; N_JOINTS];
+        self.gate
+            .update(joints, &mut status)
+            .expect("the gate was built for N_JOINTS joints");
+        for x in joints.iter_mut() {
+            *x = add(*x, self.body_motion);
+        }
+        status
+    }
+
+    /// The plane where three torso joints are usable, else the shoulder heading.
+    fn torso_pose(
+        &mut self,
+        joints: &Joints,
+        status: &[JointStatus; N_JOINTS],
+        scores: &[f64; N_JOINTS],
+    ) -> (Option<Pose>, Estimate, f64) {
+        let points = TORSO.map(|i| joints[i]);
+        // Replaced joints are last frame's positions: they count, at half weight.
+        let weights = TORSO.map(|i| {
+            let w = if status[i] == JointStatus::Measured {
+                scores[i]
+            } else {
+                0.5 * scores[i]
+            };
+            if finite(&joints[i]) && w.is_finite() {
+                w.max(0.0)
+            } else {
+                0.0
+            }
+        });
+        let [left, right] = [points[0], points[1]];
+        let shoulders_seen = finite(&left) && finite(&right);
+        if let Ok(plane) = fit_torso_plane(&points, &TORSO_SIDES, Some(&weights)) {
+            if shoulders_seen && finite(&points[2]) && finite(&points[3]) {
+                self.centre_offset = Some(sub(plane.centre, midpoint(left, right)));
+            }
+            let used = weights.iter().filter(|&&w| w > 0.0);
+            let mean = used.clone().sum::<f64>() / used.count() as f64;
+            let [x, y, z] = plane.centre;
+            return (
+                Some([x, y, z, plane.azimuth, plane.elevation]),
+                Estimate::Plane,
+                mean,
+            );
+        }
+        if !shoulders_seen {
+            return (None, Estimate::None, 0.0);
+        }
+        let Ok(heading) = shoulder_heading(left, right) else {
+            return (None, Estimate::None, 0.0);
+        };
+        let offset = self
+            .centre_offset
+            .unwrap_or([0.0, 0.0, -SHOULDER_TO_CENTRE]);
+        let elevation = self.last_pose.map_or(FRAC_PI_2, |p| p[ELEVATION]);
+        let [x, y, z] = add(heading.centre, offset);
+        (
+            Some([x, y, z, heading.azimuth, elevation]),
+            Estimate::Shoulders,
+            0.5 * (weights[0] + weights[1]),
+        )
+    }
+}
+
+/// Mean displacement of the left/right joints seen in both frames, labelled as given and with
+/// the labels exchanged; `None` when no pair is seen in both.
+fn pair_motion(current: &Joints, previous: &Joints) -> Option<(f64, f64)> {
+    let (mut same, mut crossed, mut n) = (0.0, 0.0, 0);
+    for (l, r) in coco::LEFT_RIGHT_PAIRS {
+        if [current[l], current[r], previous[l], previous[r]]
+            .iter()
+            .all(finite)
+        {
+            same += distance(current[l], previous[l]) + distance(current[r], previous[r]);
+            crossed += distance(current[l], previous[r]) + distance(current[r], previous[l]);
+            n += 2;
+        }
+    }
+    (n > 0).then(|| (same / n as f64, crossed / n as f64))
+}
+
+/// Per-axis median displacement of the joints seen in both frames; `None` when there is none.
+fn median_step(current: &Joints, previous: &Joints) -> Option<[f64; 3]> {
+    let mut steps = [[0.0; N_JOINTS]; 3];
+    let mut n = 0;
+    for (x, p) in current.iter().zip(previous) {
+        if finite(x) && finite(p) {
+            for k in 0..3 {
+                steps[k][n] = x[k] - p[k];
+            }
+            n += 1;
+        }
+    }
+    (n > 0).then(|| steps.map(|mut axis| median(&mut axis[..n])))
+}
+
+/// Median of finite values, the mean of the middle two for an even count (as NumPy's).
+fn median(values: &mut [f64]) -> f64 {
+    values.sort_unstable_by(f64::total_cmp);
+    let n = values.len();
+    if n % 2 == 1 {
+        values[n / 2]
+    } else {
+        0.5 * (values[n / 2 - 1] + values[n / 2])
+    }
+}
+
+/// An angle wrapped into (-π, π].
+pub fn wrap_angle(angle: f64) -> f64 {
+    let wrapped = angle - TAU * (angle / TAU).round();
+    if wrapped <= -PI {
+        wrapped + TAU
+    } else {
+        wrapped
+    }
+}
+
+fn finite(x: &[f64; 3]) -> bool {
+    x.iter().all(|v| v.is_finite())
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
+    norm(sub(a, b))
+}
+
+fn midpoint(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        0.5 * (a[0] + b[0]),
+        0.5 * (a[1] + b[1]),
+        0.5 * (a[2] + b[2]),
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::coco::{LEFT_HIP, LEFT_SHOULDER, NOSE, RIGHT_HIP, RIGHT_SHOULDER};
+
+    const CAMERA: [f64; 3] = [0.0; 3];
+
+    /// An upright person at `c` facing azimuth `yaw`, with a visible face when facing the camera
+    /// at the origin.
+    fn person(c: [f64; 3], yaw: f64, hips: bool) -> (Joints, [f64; N_JOINTS]) {
+        let (s, co) = yaw.sin_cos();
+        let at = |side: f64, up: f64, fwd: f64| {
+            [
+                c[0] - side * s + fwd * co,
+                c[1] + side * co + fwd * s,
+                c[2] + up,
+            ]
+        };
+        let mut joints = [[f64::NAN; 3]; N_JOINTS];
+        let mut scores = [0.0; N_JOINTS];
+        joints[LEFT_SHOULDER] = at(0.2, 0.25, 0.0);
+        joints[RIGHT_SHOULDER] = at(-0.2, 0.25, 0.0);
+        joints[NOSE] = at(0.0, 0.55, 0.1);
+        for i in [LEFT_SHOULDER, RIGHT_SHOULDER] {
+            scores[i] = 0.9;
+        }
+        if hips {
+            joints[LEFT_HIP] = at(0.12, -0.25, 0.0);
+            joints[RIGHT_HIP] = at(-0.12, -0.25, 0.0);
+            scores[LEFT_HIP] = 0.9;
+            scores[RIGHT_HIP] = 0.9;
+        }
+        let faces_camera = co * (CAMERA[0] - c[0]) + s * (CAMERA[1] - c[1]) > 0.0;
+        scores[NOSE] = if faces_camera { 0.9 } else { 0.05 };
+        (joints, scores)
+    }
+
+    fn angle_error(a: f64, b: f64) -> f64 {
+        wrap_angle(a - b).abs()
+    }
+
+    #[test]
+    fn a_turning_person_gets_the_plane_azimuth_and_back_views_are_unswapped() {
+        let mut track = Person::new(PersonConfig::default()).unwrap();
+        for k in 0..90 {
+            let yaw = PI + (4.0 * k as f64).to_radians();
+            let (mut joints, mut scores) = person([2.0, 0.0, 1.0], yaw, true);
+            let back = yaw.cos() > 0.3;
+            if back {
+                coco::swap_sides(&mut joints);
+                coco::swap_sides(&mut scores);
+            }
+            let obs = track
+                .update(k as f64 / 25.0, &joints, &scores, CAMERA)
+                .unwrap();
+            assert_eq!(obs.estimate, Estimate::Plane);
+            assert_eq!(obs.swapped, back, "frame {k}");
+            let pose = obs.pose.unwrap();
+            assert!(angle_error(pose[AZIMUTH], yaw) < 1e-9);
+            assert!((pose[ELEVATION] - FRAC_PI_2).abs() < 1e-9);
+            assert!(pose[AZIMUTH] > -PI && pose[AZIMUTH] <= PI);
+        }
+    }
+
+    #[test]
+    fn a_new_track_seen_from_behind_is_unswapped_by_the_missing_face() {
+        let (mut joints, mut scores) = person([2.0, 0.5, 1.0], 0.2, true);
+        let mut right = Person::new(PersonConfig::default()).unwrap();
+        let obs = right.update(0.0, &joints, &scores, CAMERA).unwrap();
+        assert!(!obs.swapped && angle_error(obs.pose.unwrap()[AZIMUTH], 0.2) < 1e-9);
+        coco::swap_sides(&mut joints);
+        coco::swap_sides(&mut scores);
+        let mut swapped = Person::new(PersonConfig::default()).unwrap();
+        let obs = swapped.update(0.0, &joints, &scores, CAMERA).unwrap();
+        assert!(obs.swapped && angle_error(obs.pose.unwrap()[AZIMUTH], 0.2) < 1e-9);
+    }
+
+    #[test]
+    fn without_hips_the_shoulders_give_the_azimuth_and_the_learned_centre() {
+        let mut track = Person::new(PersonConfig::default()).unwrap();
+        let (joints, scores) = person([2.0, 0.0, 1.0], 2.5, true);
+        track.update(0.0, &joints, &scores, CAMERA).unwrap();
+        let (joints, scores) = person([2.02, 0.0, 1.0], 2.6, false);
+        let obs = track.update(0.04, &joints, &scores, CAMERA).unwrap();
+        assert_eq!(obs.estimate, Estimate::Shoulders);
+        let pose = obs.pose.unwrap();
+        assert!((pose[AZIMUTH] - 2.6).abs() < 1e-9);
+        for (got, want) in pose[..3].iter().zip([2.02, 0.0, 1.0]) {
+            assert!((got - want).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn a_walker_at_30_fps_keeps_every_joint_and_a_jumping_joint_is_replaced() {
+        // 1.5 m/s is 5 cm a frame: within an absolute 10 cm gate, but a joint replaced once would
+        // then fall further behind every frame. Relative to the body it never does.
+        let config = PersonConfig {
+            gate: GateConfig {
+                threshold: 0.04,
+                max_replacements: 10,
+            },
+            ..PersonConfig::default()
+        };
+        let mut track = Person::new(config).unwrap();
+        for k in 0..60 {
+            let t = k as f64 / 30.0;
+            let (mut joints, scores) = person([1.0 + 1.5 * t, 0.0, 1.0], 0.0, true);
+            if k == 30 {
+                joints[LEFT_HIP][0] += 0.5; // a depth reading from the wall behind
+            }
+            let obs = track.update(t, &joints, &scores, CAMERA).unwrap();
+            let expected = if k == 30 {
+                JointStatus::Replaced
+            } else {
+                JointStatus::Measured
+            };
+            assert_eq!(obs.status[LEFT_HIP], expected, "frame {k}");
+            assert_eq!(obs.status[LEFT_SHOULDER], JointStatus::Measured);
+            // The replaced hip moves with the body: it is last frame's hip plus the body's step.
+            let want = person([1.0 + 1.5 * t, 0.0, 1.0], 0.0, true).0[LEFT_HIP];
+            assert!(distance(obs.joints[LEFT_HIP], want) < 1e-9, "frame {k}");
+        }
+    }
+
+    #[test]
+    fn frames_faster_than_the_grid_are_skipped_and_gaps_filled() {
+        let mut track = Person::new(PersonConfig::default()).unwrap();
+        let (joints, scores) = person([2.0, 0.0, 1.0], 3.0, true);
+        let grids: Vec<GridReport> = [0.0, 1.0 / 30.0, 2.0 / 30.0, 0.1, 4.0 / 30.0, 0.28]
+            .iter()
+            .map(|&t| track.update(t, &joints, &scores, CAMERA).unwrap().grid)
+            .collect();
+        let skipped: Vec<bool> = grids.iter().map(|g| g.skipped).collect();
+        assert_eq!(skipped, [false, false, false, false, true, false]);
+        assert_eq!(grids[5].filled, 3);
+        assert_eq!(track.forecaster().len(), 8);
+        let mut out = [[0.0; 5]; 1];
+        assert!(track.forecast(&[0.4], &mut out).unwrap());
+        assert!(angle_error(out[0][AZIMUTH], 3.0) < 1e-6);
+    }
+
+    #[test]
+    fn bad_frames_are_refused_and_leave_the_track_alone() {
+        let mut track = Person::new(PersonConfig::default()).unwrap();
+        let (joints, scores) = person([2.0, 0.0, 1.0], 3.0, true);
+        track.update(0.0, &joints, &scores, CAMERA).unwrap();
+        let before = track.clone();
+        for (t, camera) in [
+            (0.0, CAMERA),
+            (-1.0, CAMERA),
+            (f64::NAN, CAMERA),
+            (0.04, [f64::INFINITY, 0.0, 0.0]),
+        ] {
+            assert!(track.update(t, &joints, &scores, camera).is_err());
+        }
+        // Debug output compares NaN joints equal, which `==` would not.
+        assert_eq!(format!("{track:?}"), format!("{before:?}"));
+        assert_eq!(track.forecaster().len(), 1);
+        // No torso seen yet: no pose, nothing for the forecaster, so no forecast.
+        let mut fresh = Person::new(PersonConfig::default()).unwrap();
+        let obs = fresh
+            .update(0.0, &[[f64::NAN; 3]; N_JOINTS], &[0.9; N_JOINTS], CAMERA)
+            .unwrap();
+        assert_eq!((obs.pose, obs.estimate), (None, Estimate::None));
+        assert!(!fresh.forecast(&[0.4], &mut [[0.0; 5]]).unwrap());
+        let bad = PersonConfig {
+            swap_ratio: 0.0,
+            ..PersonConfig::default()
+        };
+        assert!(Person::new(bad).is_err());
+    }
+
+    #[test]
+    fn wrap_angle_lands_in_the_half_open_interval() {
+        for (a, want) in [
+            (PI, PI),
+            (-PI, PI),
+            (3.0 * PI, PI),
+            (0.5, 0.5),
+            (-7.0, -7.0 + TAU),
+        ] {
+            assert!((wrap_angle(a) - want).abs() < 1e-12, "{a}");
+        }
+    }
+}

@@ -1,0 +1,199 @@
+//! One tracked person's per-frame chain, one call per person and frame.
+
+use crate::arrays::{contiguous, matrix};
+use crate::errors::{shape_error, to_py};
+use crate::forecaster::ForecasterConfig;
+use numpy::{
+    AllowTypeChange, PyArray1, PyArray2, PyArrayLike1, PyArrayLike2, PyUntypedArrayMethods,
+};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use torso_core::coco::{Joints, N_JOINTS};
+use torso_core::{Estimate, GateConfig, JointStatus, PersonConfig, Pose};
+
+/// Person(forecaster=None, *, gate_threshold=0.1, gate_max_replacements=10, min_score=0.3,
+/// swap_ratio=0.5, min_swap_motion=0.1, face_score=0.3)
+#[pyclass(module = "torsocast._core")]
+pub struct Person {
+    inner: torso_core::Person,
+    forecaster: ForecasterConfig,
+    scratch: Vec<Pose>,
+}
+
+/// What a person's track made of one frame.
+#[pyclass(module = "torsocast._core", frozen)]
+pub struct Observation {
+    inner: torso_core::Observation,
+}
+
+fn fixed<const N: usize>(name: &str, flat: &[f64], shape: &[usize]) -> PyResult<[f64; N]> {
+    flat.try_into()
+        .map_err(|_| shape_error(name, &format!("{N} values"), shape))
+}
+
+#[pymethods]
+impl Person {
+    #[new]
+    #[pyo3(signature = (
+        forecaster=None, *, gate_threshold=0.1, gate_max_replacements=10, min_score=0.3,
+        swap_ratio=0.5, min_swap_motion=0.1, face_score=0.3
+    ))]
+    fn new(
+        forecaster: Option<PyRef<'_, ForecasterConfig>>,
+        gate_threshold: f64,
+        gate_max_replacements: u32,
+        min_score: f64,
+        swap_ratio: f64,
+        min_swap_motion: f64,
+        face_score: f64,
+    ) -> PyResult<Self> {
+        let forecaster = forecaster.map_or_else(ForecasterConfig::live_config, |c| c.clone());
+        let config = PersonConfig {
+            forecaster: forecaster.inner,
+            gate: GateConfig {
+                threshold: gate_threshold,
+                max_replacements: gate_max_replacements,
+            },
+            min_score,
+            swap_ratio,
+            min_swap_motion,
+            face_score,
+        };
+        Ok(Self {
+            inner: torso_core::Person::new(config).map_err(to_py)?,
+            forecaster,
+            scratch: Vec::new(),
+        })
+    }
+
+    /// update(t, joints (17, 3), scores (17,), camera_position (3,)) -> Observation
+    fn update(
+        &mut self,
+        t: f64,
+        joints: PyArrayLike2<'_, f64, AllowTypeChange>,
+        scores: PyArrayLike1<'_, f64, AllowTypeChange>,
+        camera_position: PyArrayLike1<'_, f64, AllowTypeChange>,
+    ) -> PyResult<Observation> {
+        if joints.shape() != [N_JOINTS, 3] {
+            return Err(shape_error("joints", "(17, 3)", joints.shape()));
+        }
+        let flat = contiguous(joints.as_array());
+        let joints: Joints =
+            std::array::from_fn(|i| [flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]]);
+        let scores: [f64; N_JOINTS] =
+            fixed("scores", &contiguous(scores.as_array()), scores.shape())?;
+        let camera: [f64; 3] = fixed(
+            "camera_position",
+            &contiguous(camera_position.as_array()),
+            camera_position.shape(),
+        )?;
+        let inner = self
+            .inner
+            .update(t, &joints, &scores, camera)
+            .map_err(to_py)?;
+        Ok(Observation { inner })
+    }
+
+    /// forecast(horizons) -> array (len(horizons), 5), azimuth wrapped, or None before the
+    /// history holds enough samples
+    fn forecast<'py>(
+        &mut self,
+        py: Python<'py>,
+        horizons: Vec<f64>,
+    ) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
+        self.scratch.resize(horizons.len(), [0.0; 5]);
+        if self
+            .inner
+            .forecast(&horizons, &mut self.scratch)
+            .map_err(to_py)?
+        {
+            Ok(Some(matrix(py, &self.scratch)?))
+        } else {
+            Ok(None)
+        }
+    }
+
+    /// Samples in the forecaster's history.
+    fn __len__(&self) -> usize {
+        self.inner.forecaster().len()
+    }
+
+    /// Grid time of the forecaster's newest sample; forecasts count from here.
+    #[getter]
+    fn last_time(&self) -> Option<f64> {
+        self.inner.forecaster().last_time()
+    }
+
+    #[getter]
+    fn min_samples(&self) -> usize {
+        self.inner.forecaster().min_samples()
+    }
+
+    #[getter]
+    fn forecaster(&self) -> ForecasterConfig {
+        self.forecaster.clone()
+    }
+}
+
+#[pymethods]
+impl Observation {
+    /// `[x, y, z, azimuth, elevation]` (azimuth wrapped), or None without an estimate.
+    #[getter]
+    fn pose<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
+        self.inner.pose.map(|p| PyArray1::from_slice(py, &p))
+    }
+
+    /// "plane", "shoulders" or "none".
+    #[getter]
+    fn estimate(&self) -> &'static str {
+        match self.inner.estimate {
+            Estimate::Plane => "plane",
+            Estimate::Shoulders => "shoulders",
+            Estimate::None => "none",
+        }
+    }
+
+    #[getter]
+    fn swapped(&self) -> bool {
+        self.inner.swapped
+    }
+
+    /// (17, 3) joints after the swap and the gate, NaN where lost.
+    #[getter]
+    fn joints<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        matrix(py, &self.inner.joints)
+    }
+
+    /// Per joint: 0 measured, 1 replaced by its previous position, 2 lost.
+    #[getter]
+    fn joint_status<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u8>> {
+        let codes = self.inner.status.map(|s: JointStatus| s as u8);
+        PyArray1::from_slice(py, &codes)
+    }
+
+    #[getter]
+    fn weight(&self) -> f64 {
+        self.inner.weight
+    }
+
+    /// {"filled": slots interpolated before this sample, "restarted": history cleared after a
+    /// long gap, "skipped": the slot already had a sample}
+    #[getter]
+    fn grid<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let g = self.inner.grid;
+        let dict = PyDict::new(py);
+        dict.set_item("filled", g.filled)?;
+        dict.set_item("restarted", g.restarted)?;
+        dict.set_item("skipped", g.skipped)?;
+        Ok(dict)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Observation(estimate='{}', pose={:?}, swapped={})",
+            self.estimate(),
+            self.inner.pose,
+            if self.inner.swapped { "True" } else { "False" }
+        )
+    }
+}
