@@ -123,6 +123,29 @@ def test_the_scene_source_renders_the_walker_where_the_truth_is(walk):
         assert 0.0 < optical[2] - frame.depth[v, u] < 0.2
 
 
+def test_run_leaves_out_a_frame_that_repeats_a_time_stamp(walk, tmp_path, capsys):
+    from torsocast.keypoints import open_model
+    from torsocast.run import run
+
+    frames = list(MocapScene(walk, fps=10.0))[:15]
+    repeated = frames[:10] + [frames[9]] + frames[10:]  # a live driver delivering a frame twice
+
+    class Replay:
+        name = "replay"
+
+        def __len__(self):
+            return len(repeated)
+
+        def __iter__(self):
+            return iter(repeated)
+
+    summary = run(Replay(), open_model(None), tmp_path, progress=False)
+    assert summary.frames == len(frames) and summary.rejected == 1
+    assert "1 rejected" in str(summary) and "frame 9 left out" in capsys.readouterr().err
+    times = [json.loads(line)["time"] for line in (tmp_path / "frames.jsonl").read_text().splitlines()]
+    assert times == [f.time for f in frames]
+
+
 def test_the_demo_camera_sees_the_walk_come_towards_it(walk):
     camera = watching_camera(walk[:, cmu.PELVIS])
     position = np.asarray(camera.camera_to_world)[:3, 3]

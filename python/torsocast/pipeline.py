@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ._core import TimeNotIncreasingError
 from .camera import DepthLookup
 from .keypoints import Detections, KeypointModel
 from .lifting import lift
@@ -39,6 +40,7 @@ class Pipeline:
     lookup: DepthLookup = field(default_factory=DepthLookup)
     seconds: dict[str, float] = field(default_factory=lambda: defaultdict(float))
     frames: int = 0
+    last_time: float | None = None
 
     def __post_init__(self) -> None:
         if any(not (np.isfinite(h) and h > 0) for h in self.horizons):
@@ -46,6 +48,14 @@ class Pipeline:
         self.tracker = Tracker(self.tracker_config)
 
     def __call__(self, frame: Frame) -> FrameResult:
+        """One frame through every stage. A frame whose time stamp is not after the previous
+        frame's raises :class:`~torsocast.TimeNotIncreasingError` before the model runs and
+        changes nothing."""
+        if self.last_time is not None and not frame.time > self.last_time:
+            raise TimeNotIncreasingError(
+                f"frame {frame.index} at {frame.time} s is not after the previous frame's {self.last_time} s"
+            )
+        self.last_time = frame.time
         clock = time.perf_counter()
         detections = self.model(frame.color)
         clock = self._lap("model", clock)

@@ -3,11 +3,13 @@ optionally overlay pictures), with frames per second and time per stage at the e
 
 from __future__ import annotations
 
+import sys
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from ._core import TimeNotIncreasingError
 from .keypoints import KeypointModel
 from .output import JsonLines
 from .pipeline import FrameResult, Pipeline
@@ -23,6 +25,8 @@ class Summary:
     people: int
     """Distinct confirmed track ids."""
     out: Path
+    rejected: int = 0
+    """Frames refused because their time stamp did not increase."""
 
     @property
     def fps(self) -> float:
@@ -30,8 +34,9 @@ class Summary:
 
     def __str__(self) -> str:
         stages = ", ".join(f"{k} {v:.2f} ms" for k, v in self.stages_ms.items())
+        rejected = f" ({self.rejected} rejected: time stamp not increasing)" if self.rejected else ""
         return (
-            f"{self.frames} frames in {self.seconds:.1f} s ({self.fps:.1f} frames/s), "
+            f"{self.frames} frames{rejected} in {self.seconds:.1f} s ({self.fps:.1f} frames/s), "
             f"{self.people} tracked people; per frame: {stages}"
         )
 
@@ -46,15 +51,24 @@ def run(
     observers: Sequence[Callable[[FrameResult], None]] = (),
 ) -> Summary:
     """Writes ``out/frames.jsonl`` and, with ``overlay``, ``out/overlay/NNNNNN.jpg``; every frame's
-    result is also handed to each of ``observers`` (a plot, an evaluation)."""
+    result is also handed to each of ``observers`` (a plot, an evaluation). A frame whose time
+    stamp is not after the previous one is left out (counted in the summary, and said on stderr
+    once): the tracks stay as they were."""
     out = Path(out)
     pipeline = Pipeline(model, horizons)
     bar = Progress(len(source), f"run {source.name}") if progress and len(source) else None
     ids: set[int] = set()
+    rejected = 0
     start = time.perf_counter()
     with JsonLines(out / "frames.jsonl", horizons) as jsonl:
         for frame in source:
-            result = pipeline(frame)
+            try:
+                result = pipeline(frame)
+            except TimeNotIncreasingError as e:
+                if not rejected:
+                    print(f"frame {frame.index} left out: {e}", file=sys.stderr)
+                rejected += 1
+                continue
             jsonl.write(result)
             ids.update(p.track_id for p in result.people if p.track_id is not None)
             if overlay:
@@ -63,7 +77,8 @@ def run(
                 observe(result)
             if bar:
                 bar(f"{len(result.detections)} people")
-    return Summary(pipeline.frames, time.perf_counter() - start, pipeline.timing(), len(ids), out)
+    seconds = time.perf_counter() - start
+    return Summary(pipeline.frames, seconds, pipeline.timing(), len(ids), out, rejected)
 
 
 def save_overlay(result: FrameResult, folder: Path) -> None:
