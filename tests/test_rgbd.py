@@ -63,7 +63,7 @@ def test_run_writes_json_lines_and_overlays(tmp_path, capsys):
     assert (
         main(
             ["run", str(source), "--model", str(model), "--out", str(out), "--overlay", "--plot"]
-            + ["--horizons", "0.4,1"]
+            + ["--horizons", "0.4,1", "--video"]
         )
         == 0
     )
@@ -80,6 +80,16 @@ def test_run_writes_json_lines_and_overlays(tmp_path, capsys):
         [line["people"][0]["azimuth"] for line in lines if line["people"][0]["azimuth"] is not None]
     )
     assert np.degrees(azimuths[-1] - azimuths[0]) == pytest.approx(355, abs=25)  # one full turn
+    # The video holds the overlay pictures, at the rate of the frames' time stamps.
+    cv2 = pytest.importorskip("cv2", reason="OpenCV (pip install '.[test]') reads the video back")
+    video = cv2.VideoCapture(str(out / "overlay.avi"))
+    times = [line["time"] for line in lines]
+    assert video.get(cv2.CAP_PROP_FPS) == pytest.approx(99 / (times[-1] - times[0]), rel=1e-3)
+    assert video.get(cv2.CAP_PROP_FRAME_COUNT) == 100
+    video.set(cv2.CAP_PROP_POS_FRAMES, 50)
+    ok, bgr = video.read()
+    jpeg = cv2.imread(str(out / "overlay" / "000050.jpg"))
+    assert ok and np.abs(bgr.astype(int) - jpeg).mean() < 1.0  # the same JPEG, decoded twice
 
 
 def test_run_refuses_what_it_cannot_read(tmp_path, capsys):
@@ -118,3 +128,32 @@ def test_npz_recording_and_tum_folder_give_back_the_frames(tmp_path):
     got = list(source)
     assert np.allclose(got[1].depth, frames[1].depth, atol=2e-4)
     assert got[1].time == pytest.approx(100 + 1 / 30)
+
+
+def test_a_video_file_gives_its_frames_and_run_finds_both_people_in_2d(tmp_path, capsys):
+    pytest.importorskip("cv2", reason="the video source needs OpenCV (pip install '.[test]')")
+    from PIL import Image
+
+    from torsocast.sources.video import VideoFile
+
+    path = shared_path("data", "video", "sports2d-demo.mp4")
+    video = VideoFile(path)
+    assert (len(video), video.fps) == (230, 30.0)  # the video's README
+    frames = {f.index: f for f in video if f.index in (0, 60)}
+    for k, frame in frames.items():
+        # ../images holds frames 0 and 60 of this video, decoded once: measured identical here.
+        with Image.open(shared_path("data", "images", f"sports2d_{k:03d}.png")) as image:
+            reference = np.asarray(image.convert("RGB"))
+        assert frame.depth is None and frame.time == pytest.approx(k / 30)
+        assert np.abs(frame.color.astype(int) - reference).mean() < 1.0
+    model = shared_path("models", "yolo11n-pose-320.onnx")
+    assert main(["run", str(path), "--model", str(model), "--out", str(tmp_path)]) == 0
+    assert "230 frames" in capsys.readouterr().out
+    lines = [json.loads(line) for line in (tmp_path / "frames.jsonl").read_text().splitlines()]
+    assert len(lines) == 230 and lines[60]["time"] == pytest.approx(2.0)
+    people = lines[60]["people"]
+    assert len(people) == 2 and all("joints" not in p and p["id"] is None for p in people)  # 2D only
+    # Where the images' README puts the two torsos (YOLO at 640); 320 is within 16 px of it.
+    for reference in ([1432.4, 621.2], [660.6, 165.3]):  # left shoulders: woman, man
+        found = min(np.abs(np.array(p["keypoints"][5][:2]) - reference).max() for p in people)
+        assert found < 16.0

@@ -112,13 +112,14 @@ def _run(args: argparse.Namespace) -> int:
     from .topdown import TopDown
 
     plot = TopDown()
-    summary = run(
-        source, model, args.out, horizons, overlay=args.overlay, observers=[plot] if args.plot else []
-    )
+    observers = [plot] if args.plot else []
+    summary = run(source, model, args.out, horizons, args.overlay, observers=observers, video=args.video)
     print(summary)
     written = [summary.out / "frames.jsonl"]
     if args.overlay:
         written.append(summary.out / "overlay")
+    if args.video:
+        written.append(summary.out / "overlay.avi")
     if args.plot:
         written.append(summary.out / "topdown.png")
         plot.draw().save(written[-1])
@@ -134,7 +135,7 @@ def _demo(args: argparse.Namespace) -> int:
     if horizons is None:
         return 2
     try:
-        result = demo(args.out, args.clip, horizons, args.model, args.overlay)
+        result = demo(args.out, args.clip, horizons, args.model, args.overlay, video=args.video)
     except (FileNotFoundError, ValueError) as e:
         print(f"torsocast demo: {e} (bundled clips: {', '.join(bundled_clips())})", file=sys.stderr)
         return 2
@@ -171,6 +172,7 @@ def main(argv: list[str] | None = None) -> int:
     dm.add_argument("--horizons", default="0.4,1.0", help="forecast horizons, seconds, comma-separated")
     dm.add_argument("--out", default="demo", help="folder for frames.jsonl and demo.png")
     dm.add_argument("--overlay", action="store_true", help="also draw every frame's result as a JPEG")
+    dm.add_argument("--video", action="store_true", help="also write those pictures as overlay.avi")
     dm.set_defaults(run=_demo)
     rn = sub.add_parser("run", help="track and forecast every person in an RGB-D source")
     rn.add_argument("source", help="folder (TUM or NNNN_camera.xml layout), .npz recording, or video")
@@ -181,6 +183,7 @@ def main(argv: list[str] | None = None) -> int:
     rn.add_argument("--fps", type=float, default=30.0, help="frame rate of sources without time stamps")
     rn.add_argument("--out", default="out", help="folder for frames.jsonl and overlay/")
     rn.add_argument("--overlay", action="store_true", help="also draw every frame's result as a JPEG")
+    rn.add_argument("--video", action="store_true", help="also write those pictures as overlay.avi (MJPEG)")
     rn.add_argument("--plot", action="store_true", help="also draw the tracks from above (topdown.png)")
     rn.set_defaults(run=_run)
     bench = sub.add_parser("bench", help="measure forecast latency of every forecaster on this machine")

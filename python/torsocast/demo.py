@@ -119,15 +119,16 @@ def demo(
     model: str | Path | None = None,
     overlay: bool = False,
     progress: bool = True,
+    video: bool = False,
 ) -> DemoResult:
     """Runs the pipeline on a bundled walk (``clip``: a bundled name or a CMU file) and writes
     ``out/frames.jsonl`` and ``out/demo.png`` (the latest frame whose forecasts could all be
-    checked, beside the top-down plot)."""
+    checked, beside the top-down plot); ``overlay`` and ``video`` as in :func:`~torsocast.run.run`."""
     out = Path(out)
     source = MocapScene.from_clip(clip)
     check = TruthCheck(source.truth, source.rate_hz, list(horizons))
     plot = TopDown(source.camera)
-    summary = run(source, open_model(model), out, horizons, overlay, progress, observers=(check, plot))
+    summary = run(source, open_model(model), out, horizons, overlay, progress, (check, plot), video)
     picture = out / "demo.png"
     compose(check.last, plot.draw(truth=check.truth), source.name).save(picture)
     return DemoResult(summary, check, picture)

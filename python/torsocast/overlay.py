@@ -1,5 +1,6 @@
 """Pictures of a frame's result: keypoints and skeleton, the torso normal as an arrow from the
-torso centre, and the forecast heading at the last horizon (dashed), drawn on the colour image."""
+torso centre, and the forecast heading at the last horizon (a thin white line from the forecast
+centre), drawn on the colour image."""
 
 from __future__ import annotations
 

@@ -6,12 +6,15 @@ from __future__ import annotations
 import sys
 import time
 from collections.abc import Callable, Sequence
+from contextlib import nullcontext
 from dataclasses import dataclass
 from pathlib import Path
 
 from ._core import TimeNotIncreasingError
+from .avi import AviWriter
 from .keypoints import KeypointModel
 from .output import JsonLines
+from .overlay import draw
 from .pipeline import FrameResult, Pipeline
 from .progress import Progress
 from .sources import Source
@@ -49,8 +52,10 @@ def run(
     overlay: bool = False,
     progress: bool = True,
     observers: Sequence[Callable[[FrameResult], None]] = (),
+    video: bool = False,
 ) -> Summary:
-    """Writes ``out/frames.jsonl`` and, with ``overlay``, ``out/overlay/NNNNNN.jpg``; every frame's
+    """Writes ``out/frames.jsonl``, with ``overlay`` ``out/overlay/NNNNNN.jpg`` and with ``video``
+    the same pictures as ``out/overlay.avi`` (Motion JPEG, :mod:`torsocast.avi`); every frame's
     result is also handed to each of ``observers`` (a plot, an evaluation). A frame whose time
     stamp is not after the previous one is left out (counted in the summary, and said on stderr
     once): the tracks stay as they were."""
@@ -60,7 +65,8 @@ def run(
     ids: set[int] = set()
     rejected = 0
     start = time.perf_counter()
-    with JsonLines(out / "frames.jsonl", horizons) as jsonl:
+    movie = AviWriter(out / "overlay.avi") if video else None
+    with JsonLines(out / "frames.jsonl", horizons) as jsonl, movie or nullcontext():
         for frame in source:
             try:
                 result = pipeline(frame)
@@ -71,18 +77,16 @@ def run(
                 continue
             jsonl.write(result)
             ids.update(p.track_id for p in result.people if p.track_id is not None)
-            if overlay:
-                save_overlay(result, out / "overlay")
+            if overlay or movie:
+                picture = draw(result)
+                if overlay:
+                    (out / "overlay").mkdir(parents=True, exist_ok=True)
+                    picture.save(out / "overlay" / f"{frame.index:06d}.jpg", quality=90)
+                if movie:
+                    movie.write(picture, frame.time)
             for observe in observers:
                 observe(result)
             if bar:
                 bar(f"{len(result.detections)} people")
     seconds = time.perf_counter() - start
     return Summary(pipeline.frames, seconds, pipeline.timing(), len(ids), out, rejected)
-
-
-def save_overlay(result: FrameResult, folder: Path) -> None:
-    from .overlay import draw
-
-    folder.mkdir(parents=True, exist_ok=True)
-    draw(result).save(folder / f"{result.frame.index:06d}.jpg", quality=90)
