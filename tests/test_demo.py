@@ -159,9 +159,9 @@ def test_demo_runs_on_bundled_data_and_matches_the_truth(tmp_path, capsys):
     lines = [json.loads(line) for line in (tmp_path / "frames.jsonl").read_text().splitlines()]
     assert len(lines) == 90 and (tmp_path / "demo.png").stat().st_size > 10_000
     assert (tmp_path / "overlay.avi").stat().st_size > 90 * 10_000  # 90 JPEGs of 640x480
-    # Measured on test_walking_1 with the bundled MoveNet: azimuth error median 3.8 deg, 90th
-    # percentile 7.4 deg, centre 8 cm; forecast centre error 0.4 s ahead 14 cm against 45 cm for
-    # holding still, 1 s ahead 51 against 121 cm.
+    # Measured on test_walking_1 with the bundled MoveNet: azimuth error median 3.3 deg, 90th
+    # percentile 7.2 deg, centre 8 cm; forecast centre error 0.4 s ahead 13 cm against 45 cm for
+    # holding still, 1 s ahead 49 against 121 cm.
     median = float(printed.split("azimuth error median ")[1].split(" deg")[0])
     p90 = float(printed.split("90th percentile ")[1].split(" deg")[0])
     assert median < 6.0 and p90 < 12.0

@@ -198,6 +198,7 @@ class Person:
         swap_ratio: float = 0.5,
         min_swap_motion: float = 0.1,
         face_score: float = 0.3,
+        occlusion_ratio: float = 0.8,
     ) -> Person: ...
     def update(
         self, t: float, joints: _ArrayLike, scores: _ArrayLike, camera_position: _ArrayLike

@@ -1,7 +1,8 @@
 """One tracked person: the thesis' per-person chain (section 3.2) on 3D keypoints.
 
-Each frame: undo a left/right swap of the detector, gate every joint against its previous
-position relative to the body's motion, fit the torso plane (or, without enough torso joints,
+Each frame: undo a left/right swap of the detector, move a far shoulder or hip that the body
+hides back to its depth (profile views), gate every joint against its previous position relative
+to the body's motion, fit the torso plane (or, without enough torso joints,
 take the azimuth from the shoulders), and feed the pose to the person's forecaster on its
 fixed-rate grid. The chain runs in the core (``torso_core::person``), one call per person and
 frame; this module holds its configuration and the track's id.
@@ -49,6 +50,10 @@ class TrackConfig:
     """…and the labelled pairing moves them more than this (m): below it the two are noise."""
     face_score: float = 0.3
     """A face keypoint above this score means the face is seen (used when a track starts)."""
+    occlusion_ratio: float = 0.8
+    """A shoulder or hip pair measured shorter than this fraction of the width learned in
+    frontal views has its far joint moved back along its camera ray to that width (profile
+    views: the far joint's depth is read from the near side); 0 turns this off."""
 
 
 class Track:
@@ -65,6 +70,7 @@ class Track:
             swap_ratio=c.swap_ratio,
             min_swap_motion=c.min_swap_motion,
             face_score=c.face_score,
+            occlusion_ratio=c.occlusion_ratio,
         )
 
     def update(self, t: float, joints: F64, scores: F64, camera_position: F64) -> Observation:

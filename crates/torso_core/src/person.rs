@@ -1,10 +1,11 @@
 //! One tracked person: the thesis' per-person chain (section 3.2) on the 17 COCO keypoints of a
 //! 2D detector, lifted to 3D in the world frame.
 //!
-//! Each frame: undo a left/right swap of the detector, gate every joint against its previous
-//! position relative to the body's motion, fit the torso plane (or, without enough torso joints,
-//! take the azimuth from the shoulders), and feed the pose to the person's forecaster on its
-//! fixed-rate grid. Everything is on the stack or sized at construction.
+//! Each frame: undo a left/right swap of the detector, move a far shoulder or hip that the body
+//! hides back to its depth, gate every joint against its previous position relative to the
+//! body's motion, fit the torso plane (or, without enough torso joints, take the azimuth from the
+//! shoulders), and feed the pose to the person's forecaster on its fixed-rate grid. Everything is
+//! on the stack or sized at construction.
 
 use crate::coco::{self, Joints, N_JOINTS, TORSO, TORSO_SIDES};
 use crate::error::{Error, Result};
@@ -22,6 +23,25 @@ pub const SHOULDER_TO_CENTRE: f64 = 0.25;
 /// view counts as a side view, where neither the face nor the normal tells front from back.
 pub const SIDE_VIEW_COSINE: f64 = 0.3;
 
+/// `|cos|` between the torso normal and the direction to the camera above which both joints of a
+/// pair are in view, so that their distance teaches the pair's width (about 37 degrees off
+/// frontal or dorsal).
+pub const FRONTAL_COSINE: f64 = 0.8;
+
+/// Widths (m) a pair's distance must lie in to be learned: adult shoulders are about 0.35 m
+/// apart at the keypoints, hips 0.25 m.
+pub const PLAUSIBLE_WIDTH: (f64, f64) = (0.15, 0.7);
+
+/// Weight of a new frontal frame in the learned widths (an exponential mean over about ten
+/// frames).
+const WIDTH_RATE: f64 = 0.1;
+
+/// The torso's left/right pairs whose widths are learned: shoulders, hips.
+const PAIRS: [(usize, usize); 2] = [
+    (coco::LEFT_SHOULDER, coco::RIGHT_SHOULDER),
+    (coco::LEFT_HIP, coco::RIGHT_HIP),
+];
+
 /// Per-person parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PersonConfig {
@@ -38,6 +58,9 @@ pub struct PersonConfig {
     pub min_swap_motion: f64,
     /// A face keypoint above this score means the face is seen (used when a track starts).
     pub face_score: f64,
+    /// A shoulder or hip pair measured shorter than this fraction of its learned width has the
+    /// depth of its far joint corrected (see [`Person::update`]); 0 turns the correction off.
+    pub occlusion_ratio: f64,
 }
 
 impl Default for PersonConfig {
@@ -49,6 +72,7 @@ impl Default for PersonConfig {
             swap_ratio: 0.5,
             min_swap_motion: 0.10,
             face_score: 0.3,
+            occlusion_ratio: 0.8,
         }
     }
 }
@@ -75,6 +99,13 @@ impl PersonConfig {
                 name: "swap_ratio",
                 expected: "a fraction in (0, 1]",
                 value: self.swap_ratio,
+            });
+        }
+        if !(0.0..1.0).contains(&self.occlusion_ratio) {
+            return Err(Error::InvalidArgument {
+                name: "occlusion_ratio",
+                expected: "a fraction in [0, 1): 0 turns the correction off",
+                value: self.occlusion_ratio,
             });
         }
         if !(self.min_swap_motion.is_finite() && self.min_swap_motion >= 0.0) {
@@ -143,6 +174,8 @@ pub struct Person {
     centre_offset: Option<[f64; 3]>,
     /// Last pose, for the elevation that a shoulders-only frame holds.
     last_pose: Option<Pose>,
+    /// Shoulder and hip widths learned in frontal and dorsal views.
+    widths: [Option<f64>; 2],
 }
 
 impl Person {
@@ -157,6 +190,7 @@ impl Person {
             body_motion: [0.0; 3],
             centre_offset: None,
             last_pose: None,
+            widths: [None; 2],
         })
     }
 
@@ -209,6 +243,7 @@ impl Person {
             coco::swap_sides(&mut joints);
             coco::swap_sides(&mut scores);
         }
+        self.complete_occluded(&mut joints, camera_position);
         let status = self.gate(&mut joints);
         self.previous = Some(joints);
 
@@ -274,6 +309,41 @@ impl Person {
         }
         let face_seen = coco::FACE.iter().any(|&i| scores[i] > c.face_score);
         face_seen != (facing > 0.0)
+    }
+
+    /// In a profile view the far shoulder (or hip) is hidden behind the body: the detector still
+    /// places it in the image, but the depth read there is the near side's, so the pair comes
+    /// out too short and the azimuth lags the turn. The 2D position is right and only the depth
+    /// is wrong, so the far joint is moved back along its camera ray to where the pair has the
+    /// width learned in frontal views. The far joint is the one on the side turned away from
+    /// the camera by the last pose.
+    fn complete_occluded(&mut self, joints: &mut Joints, camera: [f64; 3]) {
+        let Some(last) = self.last_pose else {
+            return;
+        };
+        let (sin, cos) = last[AZIMUTH].sin_cos();
+        let left = [-sin, cos, 0.0];
+        let to_camera = sub(camera, [last[0], last[1], last[2]]);
+        let facing = [cos, sin, 0.0];
+        let frontal = dot(facing, to_camera).abs() / norm(to_camera) > FRONTAL_COSINE;
+        for ((l, r), width) in PAIRS.iter().zip(self.widths.iter_mut()) {
+            if !(finite(&joints[*l]) && finite(&joints[*r])) {
+                continue;
+            }
+            let measured = distance(joints[*l], joints[*r]);
+            if frontal && (PLAUSIBLE_WIDTH.0..=PLAUSIBLE_WIDTH.1).contains(&measured) {
+                *width = Some(width.map_or(measured, |w| w + WIDTH_RATE * (measured - w)));
+            } else if let Some(w) = *width {
+                if measured < self.config.occlusion_ratio * w {
+                    let (near, far) = if dot(left, to_camera) > 0.0 {
+                        (*l, *r)
+                    } else {
+                        (*r, *l)
+                    };
+                    joints[far] = behind_on_ray(camera, joints[far], joints[near], w);
+                }
+            }
+        }
     }
 
     /// The gate applied to the joints' motion relative to the body's: at 1.3 m/s and 30 frames
@@ -370,6 +440,26 @@ fn pair_motion(current: &Joints, previous: &Joints) -> Option<(f64, f64)> {
         }
     }
     (n > 0).then(|| (same / n as f64, crossed / n as f64))
+}
+
+/// The point on the camera ray through `seen` that lies `width` from `anchor`, behind `seen`
+/// (the larger root of `|c + s r - anchor| = width`); `seen` itself when the ray never comes
+/// that close.
+fn behind_on_ray(camera: [f64; 3], seen: [f64; 3], anchor: [f64; 3], width: f64) -> [f64; 3] {
+    let ray = sub(seen, camera);
+    let length = norm(ray);
+    if !(length > 0.0) {
+        return seen;
+    }
+    let r = ray.map(|v| v / length);
+    let a = sub(anchor, camera);
+    let along = dot(r, a);
+    let discriminant = along * along - dot(a, a) + width * width;
+    if !(discriminant >= 0.0) {
+        return seen;
+    }
+    let s = (along + discriminant.sqrt()).max(length);
+    add(camera, r.map(|v| v * s))
 }
 
 /// Per-axis median displacement of the joints seen in both frames; `None` when there is none.
@@ -610,6 +700,67 @@ mod tests {
             ..PersonConfig::default()
         };
         assert!(Person::new(bad).is_err());
+    }
+
+    /// The far joint of each pair seen at the depth of the near one, along its own camera ray:
+    /// what a depth camera reports when the body hides the far shoulder and hip.
+    fn occlude_far_side(joints: &mut Joints, yaw: f64) {
+        let left_is_near = -yaw.sin() * -2.0 > 0.0; // left · (camera - centre), person at x = 2
+        for (l, r) in PAIRS {
+            let (near, far) = if left_is_near { (l, r) } else { (r, l) };
+            let scale = joints[near][0] / joints[far][0]; // camera at the origin looking along +x
+            joints[far] = joints[far].map(|v| v * scale);
+        }
+    }
+
+    #[test]
+    fn profile_views_get_the_far_joints_depth_back_from_the_learned_widths() {
+        let run = |occlusion_ratio: f64| {
+            let config = PersonConfig {
+                occlusion_ratio,
+                ..PersonConfig::default()
+            };
+            let mut track = Person::new(config).unwrap();
+            let mut worst: f64 = 0.0;
+            for k in 0..45 {
+                // Facing the camera, then turning left through a profile view at 2 degrees a frame.
+                let yaw = PI + (2.0 * k as f64).to_radians();
+                let (mut joints, scores) = person([2.0, 0.0, 1.0], yaw, true);
+                if yaw.cos().abs() < 0.6 {
+                    occlude_far_side(&mut joints, yaw);
+                }
+                let obs = track
+                    .update(k as f64 / 25.0, &joints, &scores, CAMERA)
+                    .unwrap();
+                // Without the correction the far joints are gated out, then lost: no pose at all.
+                let error = obs.pose.map_or(PI, |p| angle_error(p[AZIMUTH], yaw));
+                worst = worst.max(error);
+            }
+            worst.to_degrees()
+        };
+        // Without the correction the shortened pairs turn the plane by tens of degrees; with it
+        // the far joints land where they are (the widths were learned exactly).
+        assert!(run(0.0) > 10.0, "{}", run(0.0));
+        assert!(run(0.8) < 1e-6, "{}", run(0.8));
+    }
+
+    #[test]
+    fn the_far_joint_moves_back_along_its_ray_to_the_width() {
+        let camera = [0.0, 0.0, 1.0];
+        let near = [2.0, 0.1, 1.0];
+        let seen = [2.0, -0.1, 1.0]; // as deep as the near one
+        let moved = behind_on_ray(camera, seen, near, 0.35);
+        assert!((distance(moved, near) - 0.35).abs() < 1e-12);
+        let (ray, along) = (sub(seen, camera), sub(moved, camera));
+        assert!(
+            norm(along) > norm(ray)
+                && (dot(ray, along) / norm(ray) / norm(along) - 1.0).abs() < 1e-12
+        );
+        // A ray that passes further than the width from the anchor leaves the point alone.
+        assert_eq!(
+            behind_on_ray(camera, [2.0, -1.0, 1.0], near, 0.35),
+            [2.0, -1.0, 1.0]
+        );
     }
 
     #[test]

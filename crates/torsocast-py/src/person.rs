@@ -12,7 +12,7 @@ use torso_core::coco::{Joints, N_JOINTS};
 use torso_core::{Estimate, GateConfig, JointStatus, PersonConfig, Pose};
 
 /// Person(forecaster=None, *, gate_threshold=0.1, gate_max_replacements=10, min_score=0.3,
-/// swap_ratio=0.5, min_swap_motion=0.1, face_score=0.3)
+/// swap_ratio=0.5, min_swap_motion=0.1, face_score=0.3, occlusion_ratio=0.8)
 #[pyclass(module = "torsocast._core")]
 pub struct Person {
     inner: torso_core::Person,
@@ -36,8 +36,9 @@ impl Person {
     #[new]
     #[pyo3(signature = (
         forecaster=None, *, gate_threshold=0.1, gate_max_replacements=10, min_score=0.3,
-        swap_ratio=0.5, min_swap_motion=0.1, face_score=0.3
+        swap_ratio=0.5, min_swap_motion=0.1, face_score=0.3, occlusion_ratio=0.8
     ))]
+    #[allow(clippy::too_many_arguments)]
     fn new(
         forecaster: Option<PyRef<'_, ForecasterConfig>>,
         gate_threshold: f64,
@@ -46,6 +47,7 @@ impl Person {
         swap_ratio: f64,
         min_swap_motion: f64,
         face_score: f64,
+        occlusion_ratio: f64,
     ) -> PyResult<Self> {
         let forecaster = forecaster.map_or_else(ForecasterConfig::live_config, |c| c.clone());
         let config = PersonConfig {
@@ -58,6 +60,7 @@ impl Person {
             swap_ratio,
             min_swap_motion,
             face_score,
+            occlusion_ratio,
         };
         Ok(Self {
             inner: torso_core::Person::new(config).map_err(to_py)?,
