@@ -24,21 +24,30 @@ def _bench(args: argparse.Namespace) -> int:
 def _forecast(args: argparse.Namespace) -> int:
     """Reads `t,x,y,z,azimuth,elevation[,weight]` rows (one track) and writes one JSON object per row
     with the forecasts at the requested horizons."""
-    horizons = [float(h) for h in args.horizons.split(",")]
+    horizons = _horizons(args.horizons)
+    if horizons is None:
+        return 2
+    if any(not (np.isfinite(h) and h >= 0) for h in horizons):
+        print(f"--horizons: expected seconds >= 0, got {args.horizons!r}", file=sys.stderr)
+        return 2
     config = ForecasterConfig(
         args.method, degree=args.degree, filter=args.filter, rate_hz=args.rate, history=args.history
     )
     forecaster = Forecaster(config)
-    source = sys.stdin if args.input == "-" else open(args.input)  # noqa: SIM115
+    try:
+        source = sys.stdin if args.input == "-" else open(args.input)  # noqa: SIM115
+    except OSError as e:
+        print(f"torsocast forecast: {e}", file=sys.stderr)
+        return 2
     with source:
         for line_no, line in enumerate(source, 1):
             fields = line.strip().split(",")
             if not line.strip() or line.startswith("#") or not _is_number(fields[0]):
                 continue
-            row = np.array(fields, dtype=float)
-            if len(row) not in (6, 7):
+            if len(fields) not in (6, 7) or not all(map(_is_number, fields)):
                 print(f"line {line_no}: expected 6 or 7 comma-separated numbers", file=sys.stderr)
                 return 2
+            row = np.array(fields, dtype=float)
             try:
                 report = forecaster.update(row[1:6], row[0], row[6] if len(row) == 7 else 1.0)
             except TorsocastError as e:
