@@ -80,6 +80,10 @@ def test_run_writes_json_lines_and_overlays(tmp_path, capsys):
         [line["people"][0]["azimuth"] for line in lines if line["people"][0]["azimuth"] is not None]
     )
     assert np.degrees(azimuths[-1] - azimuths[0]) == pytest.approx(355, abs=25)  # one full turn
+    # Hidden far shoulders get their depth completed in the profile phases, never while facing.
+    completed = [set(line["people"][0].get("completed") or ()) for line in lines]
+    assert set().union(*completed) <= {5, 6} and sum(map(bool, completed)) >= 10
+    assert not any(completed[:15]) and not any(completed[45:55])  # facing the camera, then away
     # The video holds the overlay pictures, at the rate of the frames' time stamps.
     cv2 = pytest.importorskip("cv2", reason="OpenCV (pip install '.[test]') reads the video back")
     video = cv2.VideoCapture(str(out / "overlay.avi"))

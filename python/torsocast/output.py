@@ -54,6 +54,7 @@ def record(result: FrameResult, horizons: Sequence[float]) -> dict[str, Any]:
                     estimate=obs.estimate,
                     swapped=obs.swapped,
                     joint_status=obs.joint_status.tolist(),
+                    completed=np.flatnonzero(obs.completed).tolist(),
                     weight=_clean(obs.weight),
                     grid=obs.grid,
                 )

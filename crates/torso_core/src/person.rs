@@ -151,8 +151,11 @@ pub struct Observation {
     pub estimate: Estimate,
     /// The detector's left and right labels were swapped back in this frame.
     pub swapped: bool,
-    /// The joints after the swap and the gate (NaN where lost).
+    /// The joints after the swap, the depth completion and the gate (NaN where lost).
     pub joints: Joints,
+    /// Joints whose measured depth was replaced by the one the learned pair width gives (a far
+    /// shoulder or hip hidden by the body).
+    pub completed: [bool; N_JOINTS],
     pub status: [JointStatus; N_JOINTS],
     /// Confidence weight given to the forecaster: mean score of the torso joints used, a joint
     /// held over from the previous frame at half its score.
@@ -243,7 +246,7 @@ impl Person {
             coco::swap_sides(&mut joints);
             coco::swap_sides(&mut scores);
         }
-        self.complete_occluded(&mut joints, camera_position);
+        let completed = self.complete_occluded(&mut joints, camera_position);
         let status = self.gate(&mut joints);
         self.previous = Some(joints);
 
@@ -269,6 +272,7 @@ impl Person {
             estimate,
             swapped,
             joints,
+            completed,
             status,
             weight,
             grid,
@@ -317,9 +321,10 @@ impl Person {
     /// is wrong, so the far joint is moved back along its camera ray to where the pair has the
     /// width learned in frontal views. The far joint is the one on the side turned away from
     /// the camera by the last pose.
-    fn complete_occluded(&mut self, joints: &mut Joints, camera: [f64; 3]) {
+    fn complete_occluded(&mut self, joints: &mut Joints, camera: [f64; 3]) -> [bool; N_JOINTS] {
+        let mut completed = [false; N_JOINTS];
         let Some(last) = self.last_pose else {
-            return;
+            return completed;
         };
         let (sin, cos) = last[AZIMUTH].sin_cos();
         let left = [-sin, cos, 0.0];
@@ -341,9 +346,11 @@ impl Person {
                         (*r, *l)
                     };
                     joints[far] = behind_on_ray(camera, joints[far], joints[near], w);
+                    completed[far] = true;
                 }
             }
         }
+        completed
     }
 
     /// The gate applied to the joints' motion relative to the body's: at 1.3 m/s and 30 frames
@@ -732,6 +739,8 @@ mod tests {
                 let obs = track
                     .update(k as f64 / 25.0, &joints, &scores, CAMERA)
                     .unwrap();
+                let profile = yaw.cos().abs() < 0.6;
+                assert!(occlusion_ratio == 0.0 || obs.completed.iter().any(|&c| c) == profile);
                 // Without the correction the far joints are gated out, then lost: no pose at all.
                 let error = obs.pose.map_or(PI, |p| angle_error(p[AZIMUTH], yaw));
                 worst = worst.max(error);

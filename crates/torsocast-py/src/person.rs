@@ -167,6 +167,13 @@ impl Observation {
         matrix(py, &self.inner.joints)
     }
 
+    /// (17,) bool: the joint's depth was completed from the learned pair width (hidden far
+    /// shoulder or hip).
+    #[getter]
+    fn completed<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<bool>> {
+        PyArray1::from_slice(py, &self.inner.completed)
+    }
+
     /// Per joint: 0 measured, 1 replaced by its previous position, 2 lost.
     #[getter]
     fn joint_status<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u8>> {
