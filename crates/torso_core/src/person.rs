@@ -236,9 +236,14 @@ impl Person {
 
         let mut joints = *joints;
         let mut scores = *scores;
-        for (x, &s) in joints.iter_mut().zip(&scores) {
-            if !(s >= self.config.min_score) || !finite(x) {
+        // A NaN or infinite score makes its keypoint missing, so that no later step (the
+        // forecaster's weight) can fail after the track's state has changed.
+        for (x, s) in joints.iter_mut().zip(scores.iter_mut()) {
+            if !(*s >= self.config.min_score && s.is_finite() && finite(x)) {
                 *x = [f64::NAN; 3];
+            }
+            if !s.is_finite() {
+                *s = 0.0;
             }
         }
         let swapped = self.labels_swapped(&joints, &scores, camera_position);
@@ -770,6 +775,19 @@ mod tests {
             behind_on_ray(camera, [2.0, -1.0, 1.0], near, 0.35),
             [2.0, -1.0, 1.0]
         );
+    }
+
+    #[test]
+    fn non_finite_scores_make_their_keypoints_missing() {
+        let mut track = Person::new(PersonConfig::default()).unwrap();
+        let (joints, mut scores) = person([2.0, 0.0, 1.0], 3.0, true);
+        scores[LEFT_HIP] = f64::INFINITY;
+        scores[coco::LEFT_EYE] = f64::NAN; // the nose still shows the face: no swap
+        let obs = track.update(0.0, &joints, &scores, CAMERA).unwrap();
+        assert_eq!(obs.status[LEFT_HIP], JointStatus::Lost);
+        assert!(obs.weight.is_finite() && angle_error(obs.pose.unwrap()[AZIMUTH], 3.0) < 1e-9);
+        let obs = track.update(0.04, &joints, &scores, CAMERA).unwrap();
+        assert!(obs.weight.is_finite() && obs.estimate == Estimate::Plane);
     }
 
     #[test]
