@@ -66,6 +66,8 @@ def run(
     rejected = 0
     start = time.perf_counter()
     movie = AviWriter(out / "overlay.avi") if video else None
+    if overlay:
+        (out / "overlay").mkdir(parents=True, exist_ok=True)
     with JsonLines(out / "frames.jsonl", horizons) as jsonl, movie or nullcontext():
         for frame in source:
             try:
@@ -80,7 +82,6 @@ def run(
             if overlay or movie:
                 picture = draw(result)
                 if overlay:
-                    (out / "overlay").mkdir(parents=True, exist_ok=True)
                     picture.save(out / "overlay" / f"{frame.index:06d}.jpg", quality=90)
                 if movie:
                     movie.write(picture, frame.time)
