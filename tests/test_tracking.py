@@ -196,3 +196,15 @@ def test_the_core_person_refuses_bad_shapes_and_values_without_changing_state():
     assert obs.joints.shape == (17, 3) and np.isnan(obs.joints[13]).all()  # a knee: never seen
     assert "plane" in repr(obs)
     assert p.forecaster.cutoff_hz == tc.ForecasterConfig.live().cutoff_hz == 1.0
+
+
+def test_track_config_defaults_are_the_cores():
+    # TrackConfig spells its defaults out for readers; the core's PersonConfig::default() is
+    # what a bare Person gets. They must not drift apart.
+    from dataclasses import fields
+
+    from torsocast.track import TrackConfig
+
+    python = {f.name: getattr(TrackConfig(), f.name) for f in fields(TrackConfig) if f.name != "forecaster"}
+    assert python == tc.Person().parameters
+    assert tc.Person(occlusion_ratio=0.0, gate_max_replacements=3).parameters["gate_max_replacements"] == 3

@@ -192,13 +192,13 @@ class Person:
         cls,
         forecaster: ForecasterConfig | None = None,
         *,
-        gate_threshold: float = 0.1,
-        gate_max_replacements: int = 10,
-        min_score: float = 0.3,
-        swap_ratio: float = 0.5,
-        min_swap_motion: float = 0.1,
-        face_score: float = 0.3,
-        occlusion_ratio: float = 0.8,
+        gate_threshold: float | None = None,
+        gate_max_replacements: int | None = None,
+        min_score: float | None = None,
+        swap_ratio: float | None = None,
+        min_swap_motion: float | None = None,
+        face_score: float | None = None,
+        occlusion_ratio: float | None = None,
     ) -> Person: ...
     def update(
         self, t: float, joints: _ArrayLike, scores: _ArrayLike, camera_position: _ArrayLike
@@ -211,6 +211,8 @@ class Person:
     def min_samples(self) -> int: ...
     @property
     def forecaster(self) -> ForecasterConfig: ...
+    @property
+    def parameters(self) -> dict[str, float]: ...
 
 @final
 class Observation:

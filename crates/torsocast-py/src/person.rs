@@ -11,8 +11,9 @@ use pyo3::types::PyDict;
 use torso_core::coco::{Joints, N_JOINTS};
 use torso_core::{Estimate, GateConfig, JointStatus, PersonConfig, Pose};
 
-/// Person(forecaster=None, *, gate_threshold=0.1, gate_max_replacements=10, min_score=0.3,
-/// swap_ratio=0.5, min_swap_motion=0.1, face_score=0.3, occlusion_ratio=0.8)
+/// Person(forecaster=None, *, gate_threshold=None, gate_max_replacements=None, min_score=None,
+/// swap_ratio=None, min_swap_motion=None, face_score=None, occlusion_ratio=None): a parameter
+/// left out takes the core's default (`PersonConfig::default()`, listed by `parameters`).
 #[pyclass(module = "torsocast._core")]
 pub struct Person {
     inner: torso_core::Person,
@@ -35,38 +36,55 @@ fn fixed<const N: usize>(name: &str, flat: &[f64], shape: &[usize]) -> PyResult<
 impl Person {
     #[new]
     #[pyo3(signature = (
-        forecaster=None, *, gate_threshold=0.1, gate_max_replacements=10, min_score=0.3,
-        swap_ratio=0.5, min_swap_motion=0.1, face_score=0.3, occlusion_ratio=0.8
+        forecaster=None, *, gate_threshold=None, gate_max_replacements=None, min_score=None,
+        swap_ratio=None, min_swap_motion=None, face_score=None, occlusion_ratio=None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         forecaster: Option<PyRef<'_, ForecasterConfig>>,
-        gate_threshold: f64,
-        gate_max_replacements: u32,
-        min_score: f64,
-        swap_ratio: f64,
-        min_swap_motion: f64,
-        face_score: f64,
-        occlusion_ratio: f64,
+        gate_threshold: Option<f64>,
+        gate_max_replacements: Option<u32>,
+        min_score: Option<f64>,
+        swap_ratio: Option<f64>,
+        min_swap_motion: Option<f64>,
+        face_score: Option<f64>,
+        occlusion_ratio: Option<f64>,
     ) -> PyResult<Self> {
+        // The defaults live in the core only, so that Python and Rust users get the same track.
+        let d = PersonConfig::default();
         let forecaster = forecaster.map_or_else(ForecasterConfig::live_config, |c| c.clone());
         let config = PersonConfig {
             forecaster: forecaster.inner,
             gate: GateConfig {
-                threshold: gate_threshold,
-                max_replacements: gate_max_replacements,
+                threshold: gate_threshold.unwrap_or(d.gate.threshold),
+                max_replacements: gate_max_replacements.unwrap_or(d.gate.max_replacements),
             },
-            min_score,
-            swap_ratio,
-            min_swap_motion,
-            face_score,
-            occlusion_ratio,
+            min_score: min_score.unwrap_or(d.min_score),
+            swap_ratio: swap_ratio.unwrap_or(d.swap_ratio),
+            min_swap_motion: min_swap_motion.unwrap_or(d.min_swap_motion),
+            face_score: face_score.unwrap_or(d.face_score),
+            occlusion_ratio: occlusion_ratio.unwrap_or(d.occlusion_ratio),
         };
         Ok(Self {
             inner: torso_core::Person::new(config).map_err(to_py)?,
             forecaster,
             scratch: Vec::new(),
         })
+    }
+
+    /// The scalar parameters in use, by their keyword names.
+    #[getter]
+    fn parameters<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let c = self.inner.config();
+        let dict = PyDict::new(py);
+        dict.set_item("gate_threshold", c.gate.threshold)?;
+        dict.set_item("gate_max_replacements", c.gate.max_replacements)?;
+        dict.set_item("min_score", c.min_score)?;
+        dict.set_item("swap_ratio", c.swap_ratio)?;
+        dict.set_item("min_swap_motion", c.min_swap_motion)?;
+        dict.set_item("face_score", c.face_score)?;
+        dict.set_item("occlusion_ratio", c.occlusion_ratio)?;
+        Ok(dict)
     }
 
     /// update(t, joints (17, 3), scores (17,), camera_position (3,)) -> Observation
