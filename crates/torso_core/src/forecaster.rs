@@ -328,6 +328,12 @@ impl Forecaster {
     }
 
     /// Fewest samples before [`Forecaster::forecast`] answers.
+    /// Whether [`update`](Self::update) would take a finite sample at `t`: its time stamp maps
+    /// to a later slot of the fixed-rate grid than the newest sample's.
+    pub fn takes_time(&self, t: f64) -> bool {
+        t.is_finite() && self.history.takes_time(t)
+    }
+
     pub fn min_samples(&self) -> usize {
         match &self.engine {
             Engine::Const => 1,

@@ -74,6 +74,16 @@ impl History {
         self.head = 0;
     }
 
+    /// Whether a sample at `t` would land on a later grid slot than the newest one (always, for
+    /// an empty history): the one rule [`push`](Self::push) applies to time stamps.
+    pub fn takes_time(&self, t: f64) -> bool {
+        self.last_time().is_none() || self.slot_of(t) > self.last_slot as f64
+    }
+
+    fn slot_of(&self, t: f64) -> f64 {
+        ((t - self.origin) / self.step).round()
+    }
+
     /// Adds a sample. Everything is checked before anything changes, so a rejected sample
     /// leaves the history exactly as it was.
     pub fn push(&mut self, pose: Pose, t: f64, weight: f64) -> Result<UpdateReport> {
@@ -100,7 +110,7 @@ impl History {
             self.start_at(pose, t, weight);
             return Ok(UpdateReport::default());
         };
-        let slot = ((t - self.origin) / self.step).round();
+        let slot = self.slot_of(t);
         if !(slot > self.last_slot as f64) {
             return Err(Error::TimeNotIncreasing { previous, got: t });
         }

@@ -258,14 +258,14 @@ impl Person {
         let (pose, estimate, weight) = self.torso_pose(&joints, &status, &scores);
         let mut grid = GridReport::default();
         if let Some(pose) = pose {
-            let half_step = 0.5 / self.config.forecaster.rate_hz;
-            match self.forecaster.last_time() {
-                Some(last) if t - last < half_step => grid.skipped = true,
-                _ => {
-                    let report = self.forecaster.update(pose, t, weight)?;
-                    grid.filled = report.filled;
-                    grid.restarted = report.restarted;
-                }
+            // The forecaster's own slot rule decides, so that its update cannot refuse the
+            // time stamp after this frame has changed the track.
+            if self.forecaster.takes_time(t) {
+                let report = self.forecaster.update(pose, t, weight)?;
+                grid.filled = report.filled;
+                grid.restarted = report.restarted;
+            } else {
+                grid.skipped = true;
             }
             self.last_pose = Some(pose);
         }
@@ -681,6 +681,21 @@ mod tests {
         let mut out = [[0.0; 5]; 1];
         assert!(track.forecast(&[0.4], &mut out).unwrap());
         assert!(angle_error(out[0][AZIMUTH], 3.0) < 1e-6);
+    }
+
+    #[test]
+    fn every_frame_of_common_camera_rates_is_taken() {
+        // Time stamps k / fps land on grid slot boundaries (0.7 s at 10 fps is 17.5 steps of
+        // the 25 Hz grid) where a skip test and the grid's rounding can disagree: the frame
+        // must then be skipped, not refused after the track has changed.
+        let (joints, scores) = person([2.0, 0.0, 1.0], 3.0, true);
+        for fps in [10.0, 15.0, 20.0, 24.0, 30.0, 50.0, 60.0] {
+            let mut track = Person::new(PersonConfig::default()).unwrap();
+            for k in 0..600 {
+                let t = k as f64 / fps;
+                track.update(t, &joints, &scores, CAMERA).unwrap();
+            }
+        }
     }
 
     #[test]
