@@ -12,8 +12,8 @@ from conftest import shared_path
 from torsocast.camera import Camera, Intrinsics, level_camera
 from torsocast.cli import main
 from torsocast.datasets import cmu
-from torsocast.sources.mannequin import Scene, _capsule
-from torsocast.sources.mocap import MocapScene, watching_camera
+from torsocast.synthetic.mannequin import Scene, _capsule
+from torsocast.synthetic.mocap import MocapScene, watching_camera
 
 
 @pytest.fixture(scope="module")
@@ -103,7 +103,7 @@ def test_capsules_render_at_their_closed_form_depth():
 
 def test_the_floor_is_at_its_closed_form_depth():
     camera = Camera(Intrinsics(300.0, 300.0, 80.0, 60.0), level_camera(1.5, 0.0))
-    scene = Scene(width=161, height=121, noise=0.0)
+    scene = Scene(width=161, height=121, noise=None)
     rgb, depth = scene.background(camera, scene.rays(camera))
     # A level camera 1.5 m up sees the floor at optical depth z where 1.5 / z = (v - cy) / fy.
     assert depth[110, 80] == pytest.approx(1.5 * 300.0 / 50.0)
@@ -111,7 +111,7 @@ def test_the_floor_is_at_its_closed_form_depth():
 
 
 def test_the_scene_source_renders_the_walker_where_the_truth_is(walk):
-    source = MocapScene(walk, fps=10.0, scene=Scene(noise=0.0))
+    source = MocapScene(walk, fps=10.0, scene=Scene(noise=None))
     frames = list(source)
     assert len(frames) == len(source) == 30 and frames[1].time == pytest.approx(0.1)
     world_to_camera = np.linalg.inv(source.camera.camera_to_world)

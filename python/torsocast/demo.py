@@ -2,7 +2,7 @@
 truth, shown as a picture and a table.
 
 A CMU mocap walk (free data, bundled) is rendered as RGB-D frames by a virtual Kinect-like camera
-(:mod:`torsocast.sources.mocap`); the bundled MoveNet model finds the person, the depth lifts the
+(:mod:`torsocast.synthetic.mocap`); the bundled MoveNet model finds the person, the depth lifts the
 keypoints to 3D, the tracker follows them and the forecaster looks ahead. Because the walk is
 mocap, the true torso pose is known at every instant, so the demo reports how far the estimates
 and the forecasts are from it (and how far "the person stays where they are" would be).
@@ -23,7 +23,7 @@ from .keypoints import open_model
 from .overlay import draw
 from .pipeline import FrameResult
 from .run import Summary, run
-from .sources.mocap import MocapScene
+from .synthetic.mocap import MocapScene
 from .topdown import FONT, TopDown
 
 F64 = npt.NDArray[np.float64]

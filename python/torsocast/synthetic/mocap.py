@@ -1,6 +1,6 @@
 """A mocap clip seen by a virtual RGB-D camera: the source the demo runs on.
 
-Each frame is the :mod:`~torsocast.sources.mannequin` rendered from the clip's joints at that
+Each frame is the :mod:`~torsocast.synthetic.mannequin` rendered from the clip's joints at that
 instant, with the ground-truth torso pose (the torso plane of the mocap shoulders and hips, as
 the pipeline computes it from keypoints) in ``frame.extra["truth"]``.
 """
@@ -14,21 +14,13 @@ from pathlib import Path
 import numpy as np
 import numpy.typing as npt
 
-from .._core import fit_planes
 from ..camera import Camera, Intrinsics, level_camera
 from ..datasets import cmu
-from ..keypoints import coco
-from .frame import Frame
+from ..sources.frame import Frame
 from .mannequin import Scene
+from .scenes import torso_truth
 
 F64 = npt.NDArray[np.float64]
-
-
-def torso_truth(joints: F64) -> F64:
-    """``(frames, 5)`` torso poses ``(x, y, z, azimuth, elevation)`` of ``(frames, 38, 3)`` mocap
-    joints: the plane through the shoulders and hips, as for detected keypoints."""
-    planes = fit_planes(np.ascontiguousarray(joints[:, list(cmu.TORSO)]), coco.TORSO_SIDES)
-    return np.column_stack([planes["centre"], planes["azimuth"], planes["elevation"]])
 
 
 def watching_camera(path: F64, distance: float = 4.0, side: float = 20.0, height: float = 1.2) -> Camera:
@@ -96,5 +88,7 @@ class MocapScene:
         rays = self.scene.rays(self.camera)
         background = self.scene.background(self.camera, rays)
         for index, k in enumerate(self.picks):
-            rgb, depth = self.scene.render(self.joints[k], self.camera, rng, rays, background)
-            yield Frame(index, k / self.rate_hz, rgb, depth, self.camera, {"truth": self.truth[k]})
+            frame = self.scene.render(self.joints[k], self.camera, rng, rays, background)
+            yield Frame(
+                index, k / self.rate_hz, frame.rgb, frame.depth, self.camera, {"truth": self.truth[k]}
+            )

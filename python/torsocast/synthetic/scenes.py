@@ -1,0 +1,155 @@
+"""Scenes of several people from mocap, seen by one virtual RGB-D camera.
+
+Each person (an :class:`Actor`) is a mocap clip turned about the vertical and moved on the floor;
+the camera stands at the world origin looking along +x, at a robot's height and tilt. Frames
+come at the camera's rate and carry, besides colour and depth, which person each pixel shows
+and every person's true torso pose: the plane through the mocap shoulders and hips, as the
+pipeline computes it from keypoints.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+import numpy.typing as npt
+
+from .._core import fit_planes
+from ..camera import Camera, level_camera
+from ..datasets import cmu
+from ..keypoints import coco
+from ..sources.frame import Frame
+from .mannequin import Outfit, Scene
+from .motions import Motion
+from .sensor import SENSORS
+
+F64 = npt.NDArray[np.float64]
+
+
+def torso_truth(joints: F64) -> F64:
+    """``(frames, 5)`` torso poses ``(x, y, z, azimuth, elevation)`` of ``(frames, 38, 3)`` mocap
+    joints: the plane through the shoulders and hips, as for detected keypoints."""
+    planes = fit_planes(np.ascontiguousarray(joints[:, list(cmu.TORSO)]), coco.TORSO_SIDES)
+    return np.column_stack([planes["centre"], planes["azimuth"], planes["elevation"]])
+
+
+def yaw_matrix(yaw: float) -> F64:
+    c, s = np.cos(yaw), np.sin(yaw)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+@dataclass(frozen=True)
+class Actor:
+    """One person of a scene: ``motion`` (a name) played from ``start`` seconds into the clip at
+    the scene's time 0, turned by ``yaw`` (rad) about the clip's pelvis at ``anchor`` seconds
+    into the clip, and moved so that that pelvis stands at ``position`` (x, y) on the floor."""
+
+    motion: str
+    start: float
+    anchor: float
+    yaw: float
+    position: tuple[float, float]
+    outfit: Outfit = field(default_factory=Outfit)
+
+    def place(self, motion: Motion) -> F64:
+        """The clip's joints ``(frames, 38, 3)`` where this actor puts them."""
+        k = int(round(np.clip(self.anchor, 0.0, motion.duration) * motion.rate_hz))
+        pivot = motion.joints[k, cmu.PELVIS] * [1.0, 1.0, 0.0]
+        target = np.array([*self.position, 0.0])
+        return (motion.joints - pivot) @ yaw_matrix(self.yaw).T + target  # type: ignore[no-any-return]
+
+
+@dataclass(frozen=True)
+class SceneSpec:
+    """Everything that defines a scene; with its seed, the frames are the same on every run."""
+
+    name: str
+    sensor: str
+    """A key of :data:`~torsocast.synthetic.sensor.SENSORS`."""
+    fps: float
+    height: float
+    """Camera height above the floor (m)."""
+    tilt_deg: float
+    """Camera tilt: positive looks up, negative down."""
+    duration: float
+    actors: tuple[Actor, ...]
+    seed: int = 0
+
+    def camera(self) -> Camera:
+        sensor = SENSORS[self.sensor]
+        return Camera(sensor.intrinsics, level_camera(self.height, -np.radians(self.tilt_deg)))
+
+    @property
+    def times(self) -> F64:
+        return np.arange(int(np.floor(self.duration * self.fps + 1e-9)) + 1) / self.fps
+
+
+class RenderedScene:
+    """A :class:`SceneSpec` as a frame source. ``motions`` maps the actors' motion names to
+    clips. Each frame's ``extra`` holds ``labels`` (the person index of every pixel, -1 for
+    none) and ``truth`` ``(actors, 5)`` (NaN rows for people not in the scene at that time)."""
+
+    def __init__(self, spec: SceneSpec, motions: Mapping[str, Motion]) -> None:
+        missing = [a.motion for a in spec.actors if a.motion not in motions]
+        if missing:
+            raise KeyError(f"scene {spec.name}: unknown motions {missing}")
+        if spec.sensor not in SENSORS:
+            raise ValueError(f"scene {spec.name}: sensor must be one of {list(SENSORS)}, got {spec.sensor!r}")
+        self.spec, self.name = spec, spec.name
+        self.camera = spec.camera()
+        sensor = SENSORS[spec.sensor]
+        self.scene = Scene(sensor.width, sensor.height, sensor.noise)
+        self.clips = [motions[a.motion] for a in spec.actors]
+        self.placed = [a.place(m) for a, m in zip(spec.actors, self.clips)]
+        self.truths = [torso_truth(j) for j in self.placed]
+
+    def __len__(self) -> int:
+        return len(self.spec.times)
+
+    def sample(self, actor: int, t: float | F64) -> npt.NDArray[np.intp]:
+        """The clip sample actor ``actor`` shows at scene time ``t``; -1 where it is not there."""
+        clip = self.clips[actor]
+        k = np.rint((np.asarray(t) + self.spec.actors[actor].start) * clip.rate_hz).astype(np.intp)
+        return np.where((k >= 0) & (k < len(clip.joints)), k, -1)
+
+    def truth_at(self, actor: int, t: float | F64) -> F64:
+        """True torso pose(s) of ``actor`` at scene time(s) ``t``: ``(..., 5)``, NaN where absent."""
+        k = self.sample(actor, t)
+        return np.where((k >= 0)[..., None], self.truths[actor][np.maximum(k, 0)], np.nan)  # type: ignore[no-any-return]
+
+    def __iter__(self) -> Iterator[Frame]:
+        rng = np.random.default_rng(self.spec.seed)
+        rays = self.scene.rays(self.camera)
+        background = self.scene.background(self.camera, rays)
+        outfits = [a.outfit for a in self.spec.actors]
+        for index, t in enumerate(self.spec.times):
+            samples = [int(self.sample(i, t)) for i in range(len(self.clips))]
+            here = [i for i, k in enumerate(samples) if k >= 0]
+            people = [self.placed[i][samples[i]] for i in here]
+            frame = self.scene.render(people, self.camera, rng, rays, background, [outfits[i] for i in here])
+            # Renderer index -> actor index; -1 (floor, sky) picks the appended -1.
+            labels = np.asarray([*here, -1], dtype=np.int8)[frame.labels]
+            truth = np.array([self.truth_at(i, t) for i in range(len(self.clips))]).reshape(-1, 5)
+            extra = {"labels": labels, "truth": truth, "joints": people, "present": here}
+            yield Frame(index, float(t), frame.rgb, frame.depth, self.camera, extra)
+
+    def visible(self, frame: Frame, min_joints: int = 3) -> npt.NDArray[np.bool_]:
+        """Which actors show at least ``min_joints`` of their four torso joints in ``frame``: in
+        the image, in front of the camera, and not hidden by someone else (the joint's pixel
+        shows the actor's own body, which in profile hides its far shoulder and hip from the
+        camera but not from a detector)."""
+        out = np.zeros(len(self.clips), dtype=bool)
+        labels = frame.extra["labels"]
+        h, w = labels.shape
+        to_camera = np.linalg.inv(np.asarray(self.camera.camera_to_world))
+        for joints, i in zip(frame.extra["joints"], frame.extra["present"]):
+            optical = joints[list(cmu.TORSO)] @ to_camera[:3, :3].T + to_camera[:3, 3]
+            ahead = optical[:, 2] > 0.1
+            uv = self.camera.intrinsics.project(np.where(ahead[:, None], optical, 1.0))
+            u, v = np.rint(uv).astype(int).T
+            inside = ahead & (u >= 0) & (u < w) & (v >= 0) & (v < h)
+            own = np.zeros(4, dtype=bool)
+            own[inside] = labels[v[inside], u[inside]] == i
+            out[i] = own.sum() >= min_joints
+        return out
