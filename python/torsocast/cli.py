@@ -104,6 +104,45 @@ def _eval_h36m(args: argparse.Namespace) -> int:
     return 0
 
 
+#: Where ``torsocast eval scenes`` looks for its data and the multi-person model by default.
+CMU_GUESS = Path("../shared/data/cmu")
+YOLO_GUESS = Path("../shared/models/yolo11n-pose.onnx")
+
+
+def _eval_scenes(args: argparse.Namespace) -> int:
+    from .evaluation.scenes import report
+    from .evaluation.scenes.plan import CMU_ENV, FULL, QUICK, Catalogue, Size, data_folder
+    from .evaluation.scenes.run import YOLO_ENV, Models, evaluate
+
+    cmu_root = data_folder(args.cmu, CMU_ENV, CMU_GUESS)
+    h36m_root = data_folder(args.h36m, H36M_ENV, H36M_GUESS)
+    yolo = args.yolo or os.environ.get(YOLO_ENV) or (YOLO_GUESS if YOLO_GUESS.is_file() else None)
+    size = QUICK if args.quick else FULL
+    if args.scenes is not None:
+        if args.scenes < 1:
+            print(f"--scenes: expected a positive number, got {args.scenes}", file=sys.stderr)
+            return 2
+        size = Size(args.scenes, size.duration)
+    try:
+        catalogue = Catalogue.find(args.split, cmu_root, h36m_root)
+        models = Models.open(yolo)
+    except (FileNotFoundError, ValueError, RuntimeError) as e:
+        print(f"torsocast eval scenes: {e}", file=sys.stderr)
+        return 2
+    bench = evaluate(catalogue, models, args.seed, args.quick, size)
+    try:
+        import matplotlib  # noqa: F401
+
+        draw = True
+    except ImportError:
+        draw = False
+        print("figures skipped: matplotlib is not installed (pip install 'torsocast[eval]')", file=sys.stderr)
+    text, written = report.write(bench, args.out, draw=draw)
+    print(text)
+    print(f"wrote {', '.join(str(p) for p in written)}", file=sys.stderr)
+    return 0
+
+
 def _run(args: argparse.Namespace) -> int:
     from .keypoints import open_model
     from .run import run
@@ -219,6 +258,32 @@ def main(argv: list[str] | None = None) -> int:
     h36.add_argument("--every", type=int, default=10, help="dense protocol: a window every N samples")
     h36.add_argument("--out", default="eval_h36m", help="folder for report.md/.json/.csv and the figures")
     h36.set_defaults(run=_eval_h36m)
+    sc = ev_sub.add_parser(
+        "scenes", help="rendered RGB-D scenes of 1 to 6 people through the real pipeline, against the truth"
+    )
+    sc.add_argument(
+        "--split", default="dev", choices=["dev", "report"], help="dev to tune on, report to publish"
+    )
+    sc.add_argument("--quick", action="store_true", help="a few short scenes (under 3 minutes on 2 cores)")
+    sc.add_argument(
+        "--seed", type=int, default=0, help="draws the scenes: the same seed gives the same report"
+    )
+    sc.add_argument("--scenes", type=int, help="number of scenes (default: 8 with --quick, else 100)")
+    sc.add_argument(
+        "--out", default="eval_scenes", help="folder for report.md/.json, the records and figures"
+    )
+    sc.add_argument(
+        "--cmu",
+        help=f"CMU mocap folder with train/ and test/ (default: ${{TORSOCAST_CMU}}, else {CMU_GUESS})",
+    )
+    sc.add_argument(
+        "--h36m", help=f"Human3.6M folder with S1/ and S5/ (default: ${H36M_ENV}, else {H36M_GUESS})"
+    )
+    sc.add_argument(
+        "--yolo",
+        help=f"YOLO-pose ONNX model for scenes of several people (default: $TORSOCAST_YOLO, else {YOLO_GUESS})",  # noqa: E501
+    )
+    sc.set_defaults(run=_eval_scenes)
     fc.set_defaults(run=_forecast)
     args = parser.parse_args(argv)
     try:

@@ -1,0 +1,207 @@
+"""Which scenes the benchmark renders: the motions of each split and the random draw of scenes.
+
+The development split uses Human3.6M S1 and the CMU train clips; the report split Human3.6M S5
+and the CMU test walk (the CMU test clips of the other actions are kept back as unseen data and
+never read). A scene draws, from its own seed: a sensor, a frame rate, the camera's height and
+tilt, and one to six people, each a clip of a motion category drawn uniformly, turned to any
+heading and placed 1 to 6 m from the camera inside its field of view, never nearer than
+:data:`MIN_SEPARATION` to another person at the same instant.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ...datasets import h36m
+from ...synthetic.mannequin import random_outfit
+from ...synthetic.motions import Motion, cmu_motion, h36m_category, h36m_motion
+from ...synthetic.scenes import Actor, SceneSpec, yaw_matrix
+from ...synthetic.sensor import SENSORS
+
+SPLITS = ("dev", "report")
+#: CMU folder and actions, Human3.6M subjects, of each split.
+CMU_SPLITS = {
+    "dev": ("train", ("basketball", "jumping", "running", "soccer", "walking")),
+    "report": ("test", ("walking",)),
+}
+H36M_SUBJECTS = {"dev": 1, "report": 5}
+
+FRAME_RATES = (10.0, 15.0, 30.0)
+HEIGHT_M = (0.4, 1.6)
+TILT_DEG = (-25.0, 10.0)
+DISTANCE_M = (1.0, 6.0)
+#: Closest two people's pelvises may come (m): nearer, their bodies would pass through each other.
+MIN_SEPARATION = 0.7
+#: Share of scenes with one person (the bundled single-person model's case).
+SINGLE_SHARE = 1 / 3
+MAX_PEOPLE = 6
+
+
+@dataclass(frozen=True)
+class Size:
+    """How much a run renders."""
+
+    scenes: int
+    duration: float
+    """Seconds per scene."""
+
+
+FULL = Size(scenes=100, duration=6.0)
+QUICK = Size(scenes=8, duration=4.0)
+
+#: Where the data is looked for when no folder is given.
+CMU_ENV, H36M_ENV = "TORSOCAST_CMU", "TORSOCAST_H36M"
+
+
+def data_folder(given: str | Path | None, env: str, guess: Path) -> Path | None:
+    """``given``, else the environment variable ``env``, else ``guess`` where it exists."""
+    folder = given or os.environ.get(env) or (guess if guess.is_dir() else None)
+    return Path(folder) if folder is not None else None
+
+
+@dataclass
+class Catalogue:
+    """The motions of one split by category, loaded when a scene first uses them."""
+
+    split: str
+    entries: dict[str, list[tuple[str, Callable[[], Motion]]]] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
+    """What is missing or left out, for the report's first lines."""
+    _loaded: dict[str, Motion] = field(default_factory=dict)
+
+    @classmethod
+    def find(cls, split: str, cmu_root: Path | None, h36m_root: Path | None) -> Catalogue:
+        if split not in SPLITS:
+            raise ValueError(f"split must be one of {SPLITS}, got {split!r}")
+        out = cls(split)
+        folder, actions = CMU_SPLITS[split]
+        if cmu_root is None:
+            out.notes.append(f"no CMU folder (--cmu or ${CMU_ENV}): CMU motions left out")
+        else:
+            for action in actions:
+                files = sorted((cmu_root / folder / action).glob("*.txt"))
+                if not files:
+                    out.notes.append(f"{cmu_root / folder / action}: no clips")
+                for path in files:
+                    out.add(
+                        f"cmu {action}",
+                        f"cmu/{action}/{path.stem}",
+                        lambda p=path, a=action: cmu_motion(p, a),
+                    )
+        subject = H36M_SUBJECTS[split]
+        pairs = h36m.available(h36m_root, subject) if h36m_root is not None else []
+        if not pairs:
+            out.notes.append(
+                f"no Human3.6M S{subject} files (--h36m or ${H36M_ENV}): Human3.6M motions left out"
+            )
+        for action, sub in pairs:
+            name = f"h36m/S{subject}/{action}_{sub}"
+            out.add(
+                f"h36m {h36m_category(action)}",
+                name,
+                lambda a=action, s=sub: h36m_motion(h36m_root, subject, a, s),
+            )  # type: ignore[arg-type]
+        if not out.entries:
+            raise FileNotFoundError(f"no motions for the {split} split: " + "; ".join(out.notes))
+        return out
+
+    def add(self, category: str, name: str, load: Callable[[], Motion]) -> None:
+        self.entries.setdefault(category, []).append((name, load))
+
+    def motion(self, name: str) -> Motion:
+        if name not in self._loaded:
+            load = next(f for entries in self.entries.values() for n, f in entries if n == name)
+            self._loaded[name] = load()
+        return self._loaded[name]
+
+    @property
+    def motions(self) -> dict[str, Motion]:
+        """The motions loaded so far, by name."""
+        return dict(self._loaded)
+
+    def draw(self, rng: np.random.Generator, avoid: frozenset[str] = frozenset()) -> Motion:
+        """A motion of a category drawn uniformly (so that rare categories are not drowned by
+        the many Human3.6M files), other than those in ``avoid`` where the category has others;
+        a file that cannot be read is left out and noted."""
+        while self.entries:
+            category = sorted(self.entries)[int(rng.integers(len(self.entries)))]
+            entries = self.entries[category]
+            fresh = [e for e in entries if e[0] not in avoid] or entries
+            name, _ = fresh[int(rng.integers(len(fresh)))]
+            try:
+                return self.motion(name)
+            except ValueError as e:  # e.g. a gravity estimate that fails its sanity check
+                self.notes.append(f"{name} left out: {e}")
+                entries[:] = [(n, f) for n, f in entries if n != name]
+                if not entries:
+                    del self.entries[category]
+        raise FileNotFoundError(f"no readable motions for the {self.split} split")
+
+
+def _pelvis_path(actor: Actor, motion: Motion, times: np.ndarray) -> np.ndarray:
+    """The actor's pelvis on the floor at scene ``times``, NaN where it is not in the scene."""
+    k = np.rint((times + actor.start) * motion.rate_hz).astype(int)
+    ok = (k >= 0) & (k < len(motion.joints))
+    pivot_k = int(round(np.clip(actor.anchor, 0.0, motion.duration) * motion.rate_hz))
+    pivot = motion.joints[pivot_k, 0, :2]
+    xy = (motion.joints[np.clip(k, 0, len(motion.joints) - 1), 0, :2] - pivot) @ yaw_matrix(actor.yaw)[
+        :2, :2
+    ].T
+    xy = xy + actor.position
+    return np.where(ok[:, None], xy, np.nan)
+
+
+def draw_scene(
+    catalogue: Catalogue, index: int, seed: int, size: Size, people: int | None = None
+) -> SceneSpec:
+    """Scene ``index`` of a run with ``seed``: the same numbers give the same scene."""
+    rng = np.random.default_rng([seed, index])
+    sensor = sorted(SENSORS)[int(rng.integers(len(SENSORS)))]
+    fps = FRAME_RATES[int(rng.integers(len(FRAME_RATES)))]
+    height, tilt = rng.uniform(*HEIGHT_M), rng.uniform(*TILT_DEG)
+    if people is None:
+        people = 1 if rng.random() < SINGLE_SHARE else int(rng.integers(2, MAX_PEOPLE + 1))
+    intr = SENSORS[sensor].intrinsics
+    half_fov = np.arctan2(SENSORS[sensor].width / 2, intr.fx)
+    times = np.arange(0.0, size.duration + 1e-9, 0.1)
+    actors: list[Actor] = []
+    paths: list[np.ndarray] = []
+    for _ in range(people):
+        for _attempt in range(30):
+            motion = catalogue.draw(rng, frozenset(a.motion for a in actors))
+            spare = motion.duration - size.duration
+            # A clip shorter than the scene starts at a random moment of it (the person appears).
+            start = rng.uniform(0.0, spare) if spare > 0 else -rng.uniform(0.0, -spare)
+            anchor = float(np.clip(start + size.duration / 2, 0.0, motion.duration))
+            distance = rng.uniform(*DISTANCE_M)
+            bearing = rng.uniform(-0.8, 0.8) * half_fov
+            actor = Actor(
+                motion.name,
+                float(start),
+                anchor,
+                float(rng.uniform(-np.pi, np.pi)),
+                (float(distance * np.cos(bearing)), float(distance * np.sin(bearing))),
+                random_outfit(rng),
+            )
+            path = _pelvis_path(actor, motion, times)
+            with np.errstate(invalid="ignore"):
+                near = [np.nanmin(np.linalg.norm(path - other, axis=1), initial=np.inf) for other in paths]
+            if all(d >= MIN_SEPARATION for d in near):
+                actors.append(actor)
+                paths.append(path)
+                break
+    return SceneSpec(
+        f"{catalogue.split}-{seed}-{index:03d}",
+        sensor,
+        fps,
+        float(height),
+        float(tilt),
+        size.duration,
+        tuple(actors),
+        seed=int(rng.integers(2**31)),
+    )

@@ -1,0 +1,178 @@
+"""Scoring a rendered scene's frames against the truth: which detection is which person, and
+one record per visible person and frame (recovery) and per forecast and horizon (forecasts).
+
+A detection belongs to the person whose pixels most of its keypoints fall on (the renderer's
+label image), so a detection with a wildly wrong 3D estimate still counts as that person's,
+with its error, rather than as a miss. A person counts for recovery in a frame where at least
+three of their four torso joints are in the image and not hidden by someone else.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from dataclasses import dataclass, field
+
+import numpy as np
+import numpy.typing as npt
+
+from ... import Forecaster, ForecasterConfig, TorsocastError, wrap_angle
+from ...pipeline import FrameResult
+from ...sources import Frame
+from ...synthetic.scenes import RenderedScene
+
+F64 = npt.NDArray[np.float64]
+
+#: Keypoints on a person's pixels needed to say that a detection is that person.
+MIN_VOTES = 3
+#: Forecasts compared: the default live forecaster and three references. "truth" holds the true
+#: pose still: what a perfect recovery followed by "the person stays where they are" would give.
+METHODS = ("forecast", "hold", "velocity", "truth")
+COMPONENTS = ("centre", "azimuth", "elevation")
+#: Seconds a person must stay in view after their track ends for the track to count as lost.
+LOST_AFTER = 1.0
+
+
+def assign(keypoints: F64, labels: npt.NDArray[np.int8], min_score: float) -> list[int]:
+    """The person index of each detection ``(people, 17, 3)``, -1 where none; a person claimed
+    by several detections keeps the one with the most keypoints on it."""
+    h, w = labels.shape
+    owner, votes = [], []
+    for kp in keypoints:
+        ok = (kp[:, 2] >= min_score) & np.isfinite(kp[:, :2]).all(axis=1)
+        u, v = np.rint(kp[ok, 0]).astype(int), np.rint(kp[ok, 1]).astype(int)
+        inside = (u >= 0) & (u < w) & (v >= 0) & (v < h)
+        hits = labels[v[inside], u[inside]]
+        counts = np.bincount(hits[hits >= 0].astype(int)) if (hits >= 0).any() else np.zeros(0, int)
+        best = int(counts.argmax()) if counts.size else -1
+        owner.append(best if best >= 0 and counts[best] >= MIN_VOTES else -1)
+        votes.append(int(counts.max()) if counts.size else 0)
+    for d, person in enumerate(owner):
+        rivals = [e for e, p in enumerate(owner) if p == person and e != d]
+        if person >= 0 and any(votes[e] > votes[d] or (votes[e] == votes[d] and e < d) for e in rivals):
+            owner[d] = -1
+    return owner
+
+
+def view_angle(truth: F64, camera_xy: F64) -> float:
+    """Degrees between where the torso faces and the direction to the camera: 0 facing it, 180
+    turned away, +90 turned to the person's left (the camera sees their right side)."""
+    to_camera = np.arctan2(camera_xy[1] - truth[1], camera_xy[0] - truth[0])
+    return float(np.degrees(wrap_angle(truth[3] - to_camera)))
+
+
+def pose_errors(estimate: F64, truth: F64) -> tuple[float, float, float]:
+    """Centre distance (m), azimuth and elevation errors (rad) of a pose against the truth."""
+    return (
+        float(np.linalg.norm(estimate[:3] - truth[:3])),
+        abs(float(wrap_angle(estimate[3] - truth[3]))),
+        abs(float(estimate[4] - truth[4])),
+    )
+
+
+@dataclass
+class SceneScore:
+    """The records of one scene: column name -> values."""
+
+    recovery: dict[str, list] = field(default_factory=lambda: defaultdict(list))  # type: ignore[type-arg]
+    forecasts: dict[str, list] = field(default_factory=lambda: defaultdict(list))  # type: ignore[type-arg]
+    identity: dict[str, list] = field(default_factory=lambda: defaultdict(list))  # type: ignore[type-arg]
+    false_positives: int = 0
+
+
+class Scorer:
+    """Scores the frames of one scene as they come out of the pipeline."""
+
+    def __init__(self, scene: RenderedScene, horizons: list[float], min_score: float) -> None:
+        self.scene, self.horizons, self.min_score = scene, horizons, min_score
+        self.camera_xy = np.asarray(scene.camera.camera_to_world)[:2, 3]
+        self.score = SceneScore()
+        self.velocity: dict[int, Forecaster] = {}
+        self.seen_ids: dict[int, list[tuple[float, int | None]]] = defaultdict(list)
+        spec = scene.spec
+        self.conditions = {
+            "scene": spec.name,
+            "sensor": spec.sensor,
+            "fps": spec.fps,
+            "people": len(spec.actors),
+        }
+
+    def _row(self, table: dict[str, list], actor: int, t: float, truth: F64) -> None:  # type: ignore[type-arg]
+        for key, value in self.conditions.items():
+            table[key].append(value)
+        table["t"].append(t)
+        table["actor"].append(actor)
+        table["category"].append(self.scene.clips[actor].category)
+        table["view"].append(view_angle(truth, self.camera_xy))
+        table["distance"].append(float(np.linalg.norm(truth[:2] - self.camera_xy)))
+
+    def __call__(self, frame: Frame, result: FrameResult) -> None:
+        t = frame.time
+        owner = assign(result.detections.keypoints, frame.extra["labels"], self.min_score)
+        visible = self.scene.visible(frame)
+        truth = frame.extra["truth"]
+        by_actor = {a: d for d, a in enumerate(owner) if a >= 0}
+        self.score.false_positives += sum(1 for a in owner if a < 0)
+        for person in result.people:  # the velocity reference sees what the tracks see
+            obs, track = person.observation, person.track
+            if obs is None or obs.pose is None or track is None:
+                continue
+            f = self.velocity.setdefault(id(track), Forecaster(ForecasterConfig("constant_velocity")))
+            try:
+                f.update(obs.pose, t, 1.0)
+            except TorsocastError:
+                pass
+        for actor in np.flatnonzero(visible):
+            actor = int(actor)
+            d = by_actor.get(actor)
+            person = result.people[d] if d is not None and d < len(result.people) else None
+            pose = person.observation.pose if person and person.observation else None
+            r = self.score.recovery
+            self._row(r, actor, t, truth[actor])
+            r["estimated"].append(pose is not None)
+            err = np.abs(pose - truth[actor]) if pose is not None else np.full(5, np.nan)
+            err[3] = abs(float(wrap_angle(err[3])))
+            for name, value in zip(("x", "y", "z", "azimuth", "elevation"), err):
+                r[name].append(float(value))
+            track_id = person.track_id if person is not None else None
+            self.seen_ids[actor].append((t, track_id))
+            if pose is not None and person is not None and d in result.forecasts and person.track is not None:
+                self._forecasts(actor, t, pose, result.forecasts[d], person.track)
+
+    def _forecasts(self, actor: int, t: float, pose: F64, ahead: F64, track) -> None:  # type: ignore[no-untyped-def]
+        origin = track.last_time
+        velocity = self.velocity.get(id(track))
+        cv = None
+        if velocity is not None and len(velocity) >= velocity.min_samples:
+            cv = velocity.forecast(self.horizons)
+        now = self.scene.truth_at(actor, origin)
+        for h, predicted, k in zip(self.horizons, ahead, range(len(self.horizons))):
+            then = self.scene.truth_at(actor, origin + h)
+            if not np.isfinite(then).all() or not np.isfinite(now).all() or cv is None:
+                continue
+            f = self.score.forecasts
+            self._row(f, actor, t, now)
+            f["horizon"].append(h)
+            for method, guess in zip(METHODS, (predicted, pose, cv[k], now)):
+                for component, e in zip(COMPONENTS, pose_errors(guess, then)):
+                    f[f"{method}_{component}"].append(e)
+
+    def finish(self) -> SceneScore:
+        """Identity switches and lost tracks of every person, once the scene is over."""
+        for actor, seen in self.seen_ids.items():
+            ids = [(t, i) for t, i in seen if i is not None]
+            switches = sum(1 for (_, a), (_, b) in zip(ids, ids[1:]) if a != b)
+            last_visible = seen[-1][0]
+            ends: dict[int, float] = {}
+            for t, i in ids:
+                ends[i] = t
+            lost = sum(1 for end in ends.values() if last_visible - end >= LOST_AFTER)
+            g = self.score.identity
+            for key, value in self.conditions.items():
+                g[key].append(value)
+            g["actor"].append(actor)
+            g["category"].append(self.scene.clips[actor].category)
+            g["visible_frames"].append(len(seen))
+            g["tracks"].append(len(ends))
+            g["switches"].append(switches)
+            g["lost"].append(lost)
+        return self.score
