@@ -187,6 +187,26 @@ def test_one_person_turned_away_is_recovered_with_yolo(standing, yolo640):
     check_recovery(recover(facing(standing, 0.0, (2.5, 0.0)), standing, yolo640), azimuth=8)
 
 
+def test_a_replayed_scene_scores_as_the_live_one(tmp_path):
+    from torsocast.evaluation.scenes.run import run_scene
+
+    walk = Motion("walk", "test", cmu.load_clip(cmu.bundled_clips()["train_walking_2"]), cmu.RATE_HZ)
+    actors = (Actor("walk", 0.0, 1.0, 2.0, (3.0, 0.0)),)
+    spec = SceneSpec("replay", "d435", 10.0, 1.2, -10.0, 2.5, actors, seed=4)
+
+    class Catalogue:
+        def motion(self, name):
+            return walk
+
+    model = open_model()
+    live, _, frames = run_scene(spec, Catalogue(), model, cache=tmp_path)
+    assert frames == 26 and len(list(tmp_path.glob("*.npz"))) == 1
+    replayed, picture, _ = run_scene(spec, Catalogue(), model, cache=tmp_path)
+    assert picture is None and len(live.forecasts["t"]) > 0
+    for table in ("recovery", "forecasts", "identity"):
+        assert dict(getattr(replayed, table)) == dict(getattr(live, table)), table
+
+
 def test_the_runtime_imports_neither_the_renderer_nor_the_evaluations():
     code = (
         "import sys, torsocast, torsocast.cli, torsocast.run, torsocast.pipeline, torsocast.sources\n"

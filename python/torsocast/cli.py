@@ -129,7 +129,9 @@ def _eval_scenes(args: argparse.Namespace) -> int:
     except (FileNotFoundError, ValueError, RuntimeError) as e:
         print(f"torsocast eval scenes: {e}", file=sys.stderr)
         return 2
-    bench = evaluate(catalogue, models, args.seed, args.quick, size)
+    bench = evaluate(
+        catalogue, models, args.seed, args.quick, size, cache=Path(args.cache) if args.cache else None
+    )
     try:
         import matplotlib  # noqa: F401
 
@@ -282,6 +284,10 @@ def main(argv: list[str] | None = None) -> int:
     sc.add_argument(
         "--yolo",
         help=f"YOLO-pose ONNX model for scenes of several people (default: $TORSOCAST_YOLO, else {YOLO_GUESS})",  # noqa: E501
+    )
+    sc.add_argument(
+        "--cache",
+        help="keep each scene's detections here and replay them on later runs (for changes after the model)",
     )
     sc.set_defaults(run=_eval_scenes)
     fc.set_defaults(run=_forecast)

@@ -3,19 +3,23 @@ model, scored against the truth."""
 
 from __future__ import annotations
 
+import hashlib
 import os
+import time
 from collections import defaultdict
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from ...keypoints import KeypointModel, open_model
+from ...keypoints import Detections, KeypointModel, open_model
 from ...pipeline import FrameResult, Pipeline
 from ...progress import Progress
+from ...sources import Frame
 from ...synthetic.scenes import RenderedScene, SceneSpec
 from .plan import FULL, QUICK, Catalogue, Size, draw_scene
-from .score import Scorer
+from .score import SceneScore, Scorer, assign
 
 HORIZONS = (0.4, 1.0, 2.0)
 #: The multi-person model, when none is given: YOLO11n-pose at 640 (AGPL weights, not shipped).
@@ -60,19 +64,77 @@ class Benchmark:
         return {k: np.asarray(v) for k, v in getattr(self, table).items()}
 
 
-def run_scene(spec: SceneSpec, catalogue: Catalogue, model: KeypointModel, horizons=HORIZONS):  # type: ignore[no-untyped-def]
-    """One scene through the pipeline; returns its :class:`~.score.SceneScore` and the frame with
-    the most people estimated."""
+def _cache_file(cache: Path, spec: SceneSpec, model: KeypointModel) -> Path:
+    key = hashlib.sha256(f"{spec!r} {type(model).__name__} {model.input_size}".encode()).hexdigest()[:16]
+    return cache / f"{spec.name}-{key}.npz"
+
+
+def _live(scene: RenderedScene, pipeline: Pipeline, record: dict[str, list] | None):  # type: ignore[no-untyped-def, type-arg]
+    """Renders every frame and runs the whole pipeline; ``record`` keeps what a replay needs."""
+    for frame in scene:
+        result = pipeline(frame)
+        owner = assign(
+            result.detections.keypoints, frame.extra["labels"], pipeline.tracker_config.track.min_score
+        )
+        visible = scene.visible(frame)
+        if record is not None:
+            record["keypoints"].append(result.detections.keypoints)
+            record["joints"].append(result.joints)
+            record["owner"].append(np.asarray(owner, dtype=np.int64))
+            record["visible"].append(visible)
+        yield frame, result, owner, visible
+
+
+def _replay(scene: RenderedScene, pipeline: Pipeline, path: Path):  # type: ignore[no-untyped-def]
+    """The frames' detections and lifted joints as recorded, through the tracking stages only."""
+    data = np.load(path)
+    ends = np.cumsum(data["people"])
+    for k, t in enumerate(scene.spec.times):
+        rows = slice(ends[k] - data["people"][k], ends[k])
+        keypoints = data["keypoints"][rows]
+        detections = Detections(keypoints, np.zeros((len(keypoints), 4)), np.ones(len(keypoints)))
+        frame = Frame(k, float(t), np.zeros((1, 1, 3), np.uint8), None, scene.camera)
+        frame.extra["truth"] = np.array([scene.truth_at(i, t) for i in range(len(scene.clips))]).reshape(
+            -1, 5
+        )
+        result = pipeline.track(frame, detections, data["joints"][rows], time.perf_counter())
+        yield frame, result, data["owner"][rows].tolist(), data["visible"][k]
+
+
+def run_scene(
+    spec: SceneSpec,
+    catalogue: Catalogue,
+    model: KeypointModel,
+    horizons: Sequence[float] = HORIZONS,
+    cache: Path | None = None,
+) -> tuple[SceneScore, FrameResult | None, int]:
+    """One scene through the pipeline: its :class:`~.score.SceneScore`, the frame with the most
+    forecasts (None when replayed) and its number of frames. With a ``cache`` folder, the
+    model's detections and the lifted joints of each frame are kept there, and a later run of
+    the same scene with the same model replays them through the tracking stages alone (for
+    changes after the model: tracking, the per-person chain, forecasting, scoring)."""
     scene = RenderedScene(spec, {a.motion: catalogue.motion(a.motion) for a in spec.actors})
     pipeline = Pipeline(model, horizons)
     scorer = Scorer(scene, list(horizons), pipeline.tracker_config.track.min_score)
+    path = _cache_file(cache, spec, model) if cache is not None else None
+    record: dict[str, list] | None = defaultdict(list) if path is not None else None  # type: ignore[type-arg]
+    replaying = path is not None and path.is_file()
+    frames = _replay(scene, pipeline, path) if replaying else _live(scene, pipeline, record)  # type: ignore[arg-type]
     best, best_count = None, 0
-    for frame in scene:
-        result = pipeline(frame)
-        scorer(frame, result)
-        count = len(result.forecasts)
-        if count > best_count:
-            best, best_count = result, count
+    for frame, result, owner, visible in frames:
+        scorer(frame.time, result, owner, visible, frame.extra["truth"])
+        if not replaying and len(result.forecasts) > best_count:
+            best, best_count = result, len(result.forecasts)
+    if path is not None and not replaying and record is not None:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        np.savez_compressed(
+            path,
+            people=np.array([len(k) for k in record["keypoints"]]),
+            keypoints=np.concatenate(record["keypoints"]).reshape(-1, 17, 3),
+            joints=np.concatenate(record["joints"]).reshape(-1, 17, 3),
+            owner=np.concatenate(record["owner"]),
+            visible=np.array(record["visible"]).reshape(len(spec.times), len(spec.actors)),
+        )
     return scorer.finish(), best, len(scene)
 
 
@@ -83,8 +145,9 @@ def evaluate(
     quick: bool = False,
     size: Size | None = None,
     progress: bool = True,
+    cache: Path | None = None,
 ) -> Benchmark:
-    """Draws the split's scenes for ``seed`` and runs them all."""
+    """Draws the split's scenes for ``seed`` and runs them all (``cache``: see :func:`run_scene`)."""
     size = size or (QUICK if quick else FULL)
     specs = [draw_scene(catalogue, i, seed, size) for i in range(size.scenes)]
     bench = Benchmark(catalogue.split, seed, quick, [], notes=catalogue.notes)
@@ -102,7 +165,7 @@ def evaluate(
     for spec in specs:
         model = models.single if len(spec.actors) <= 1 else models.multi
         assert model is not None
-        score, best, frames = run_scene(spec, catalogue, model)
+        score, best, frames = run_scene(spec, catalogue, model, cache=cache)
         for table in ("recovery", "forecasts", "identity"):
             for key, values in getattr(score, table).items():
                 getattr(bench, table)[key].extend(values)

@@ -17,7 +17,6 @@ import numpy.typing as npt
 
 from ... import Forecaster, ForecasterConfig, TorsocastError, wrap_angle
 from ...pipeline import FrameResult
-from ...sources import Frame
 from ...synthetic.scenes import RenderedScene
 
 F64 = npt.NDArray[np.float64]
@@ -105,11 +104,11 @@ class Scorer:
         table["view"].append(view_angle(truth, self.camera_xy))
         table["distance"].append(float(np.linalg.norm(truth[:2] - self.camera_xy)))
 
-    def __call__(self, frame: Frame, result: FrameResult) -> None:
-        t = frame.time
-        owner = assign(result.detections.keypoints, frame.extra["labels"], self.min_score)
-        visible = self.scene.visible(frame)
-        truth = frame.extra["truth"]
+    def __call__(
+        self, t: float, result: FrameResult, owner: list[int], visible: npt.NDArray[np.bool_], truth: F64
+    ) -> None:
+        """Scores one frame's ``result``: ``owner`` is the person index of each detection (-1 for
+        none, :func:`assign`), ``visible`` which people count, ``truth`` their poses."""
         by_actor = {a: d for d, a in enumerate(owner) if a >= 0}
         self.score.false_positives += sum(1 for a in owner if a < 0)
         for person in result.people:  # the velocity reference sees what the tracks see
