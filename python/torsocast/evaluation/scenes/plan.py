@@ -176,7 +176,7 @@ def draw_scene(
             motion = catalogue.draw(rng, frozenset(a.motion for a in actors))
             spare = motion.duration - size.duration
             # A clip shorter than the scene starts at a random moment of it (the person appears).
-            start = rng.uniform(0.0, spare) if spare > 0 else -rng.uniform(0.0, -spare)
+            start = rng.uniform(0.0, spare) if spare >= 0 else -rng.uniform(0.0, -spare)
             anchor = float(np.clip(start + size.duration / 2, 0.0, motion.duration))
             distance = rng.uniform(*DISTANCE_M)
             bearing = rng.uniform(-0.8, 0.8) * half_fov
