@@ -44,31 +44,44 @@ def swap_sides(values):
     return out
 
 
-def test_a_turning_person_gets_the_plane_azimuth_and_a_back_view_is_unswapped():
+def test_a_turning_person_keeps_the_detectors_labels_and_a_short_swap_is_undone():
+    # YOLO-pose and MoveNet label the sides right in back views too (every frame of the real
+    # turntable sequence, with three models), so the labels decide; a detector's swap of a few
+    # frames is exchanged back.
     track = Track(1)
     yaws = np.pi + np.radians(np.arange(0, 360, 4))  # facing the camera, then turning round
     errors, swaps = [], 0
     for k, yaw in enumerate(yaws):
         joints, scores = person([2.0, 0.0, 1.0], yaw)
-        # A 2D detector labels a back view as if it were a front: sides swapped.
-        back = np.cos(yaw) > 0.3
-        if back:
+        swap = 40 <= k < 44  # 0.16 s of exchanged labels, in the back view
+        if swap:
             joints, scores = swap_sides(joints), swap_sides(scores[:, None])[:, 0]
         obs = track.update(k / 25, joints, scores, CAMERA)
         assert obs.estimate == "plane"
         swaps += obs.swapped
-        assert obs.swapped == back
+        assert obs.swapped == swap and not obs.reoriented
         errors.append(np.angle(np.exp(1j * (obs.pose[3] - yaw))))
-    assert np.abs(errors).max() < 1e-9 and swaps > 0
+    assert np.abs(errors).max() < 1e-9 and swaps == 4
     assert obs.pose[4] == pytest.approx(np.pi / 2)
 
 
-def test_a_track_born_facing_away_with_swapped_labels_is_corrected_by_the_face():
-    joints, scores = person([2.0, 0.5, 1.0], 0.2)  # back to the camera
-    obs = Track(1).update(0.0, swap_sides(joints), swap_sides(scores[:, None])[:, 0], CAMERA)
-    assert obs.swapped and obs.pose[3] == pytest.approx(0.2)
-    obs = Track(2).update(0.0, joints, scores, CAMERA)  # labelled right: no face, facing away
+def test_a_track_born_facing_away_takes_the_labels_and_turns_round_on_steady_evidence():
+    joints, scores = person([2.0, 0.5, 1.0], 0.2)  # back to the camera, no face in sight
+    obs = Track(1).update(0.0, joints, scores, CAMERA)
     assert not obs.swapped and obs.pose[3] == pytest.approx(0.2)
+    # Born with the sides exchanged (facing the camera, its face not found), then labelled
+    # right with the nose in front: the track turns round once and stays.
+    track = Track(2)
+    flips = []
+    for k in range(30):
+        j, s = person([2.0, 0.5, 1.0], np.pi + 0.005 * k)
+        if k == 0:
+            j, s = swap_sides(j), swap_sides(s[:, None])[:, 0]
+            s[coco.NOSE] = 0.0
+        obs = track.update(k / 25, j, s, CAMERA)
+        flips.append(obs.reoriented)
+    assert flips.index(True) == 1 and sum(flips) == 1
+    assert obs.pose[3] == pytest.approx(tc.wrap_angle(np.pi + 0.005 * 29))
 
 
 def test_without_hips_the_azimuth_comes_from_the_shoulders():
@@ -188,8 +201,8 @@ def test_the_core_person_refuses_bad_shapes_and_values_without_changing_state():
         p.update(0.04, joints, scores[:16], CAMERA)
     with pytest.raises(tc.NonFiniteError, match="camera_position"):
         p.update(0.04, joints, scores, [np.nan, 0.0, 0.0])
-    with pytest.raises(tc.InvalidArgumentError, match="swap_ratio"):
-        tc.Person(swap_ratio=2.0)
+    with pytest.raises(tc.InvalidArgumentError, match="facing_memory"):
+        tc.Person(facing_memory=0.0)
     assert len(p) == 1 and p.last_time == 0.0
     obs = p.update(0.04, joints.astype(np.float32), scores.tolist(), (0, 0, 0))  # any array-like
     assert obs.estimate == "plane" and obs.grid == {"filled": 0, "restarted": False, "skipped": False}

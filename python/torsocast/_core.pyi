@@ -195,9 +195,9 @@ class Person:
         gate_threshold: float | None = None,
         gate_max_replacements: int | None = None,
         min_score: float | None = None,
-        swap_ratio: float | None = None,
-        min_swap_motion: float | None = None,
-        face_score: float | None = None,
+        facing_memory: float | None = None,
+        face_weight: float | None = None,
+        motion_weight: float | None = None,
         occlusion_ratio: float | None = None,
     ) -> Person: ...
     def update(
@@ -222,6 +222,8 @@ class Observation:
     def estimate(self) -> Literal["plane", "shoulders", "none"]: ...
     @property
     def swapped(self) -> bool: ...
+    @property
+    def reoriented(self) -> bool: ...
     @property
     def joints(self) -> _F64: ...
     @property

@@ -43,13 +43,13 @@ class TrackConfig:
     gate_max_replacements: int = 10
     min_score: float = 0.3
     """Keypoints scored below this are missing (NaN)."""
-    swap_ratio: float = 0.5
-    """A frame's left/right labels are swapped back when the swapped pairing moves the joints
-    less than this fraction of the labelled one."""
-    min_swap_motion: float = 0.10
-    """…and the labelled pairing moves them more than this (m): below it the two are noise."""
-    face_score: float = 0.3
-    """A face keypoint above this score means the face is seen (used when a track starts)."""
+    facing_memory: float = 1.0
+    """Time constant (s) over which the evidence for which way the chest faces is forgotten
+    (``torso_core::sides``: the labels, the nose and the walking direction are weighed)."""
+    face_weight: float = 2.0
+    """Weight of the nose standing in front of the shoulders, relative to the labels'."""
+    motion_weight: float = 1.0
+    """Weight of the walking direction, relative to the labels'."""
     occlusion_ratio: float = 0.8
     """A shoulder or hip pair measured shorter than this fraction of the width learned in
     frontal views has its far joint moved back along its camera ray to that width (profile
@@ -67,9 +67,9 @@ class Track:
             gate_threshold=c.gate_threshold,
             gate_max_replacements=c.gate_max_replacements,
             min_score=c.min_score,
-            swap_ratio=c.swap_ratio,
-            min_swap_motion=c.min_swap_motion,
-            face_score=c.face_score,
+            facing_memory=c.facing_memory,
+            face_weight=c.face_weight,
+            motion_weight=c.motion_weight,
             occlusion_ratio=c.occlusion_ratio,
         )
 

@@ -328,6 +328,12 @@ impl Forecaster {
     }
 
     /// Fewest samples before [`Forecaster::forecast`] answers.
+    /// Turns the history's samples from time `t0` on to face the other way (see
+    /// [`Person`](crate::Person): a track that had the body's sides the wrong way round).
+    pub fn flip_since(&mut self, t0: f64) {
+        self.history.flip_since(t0);
+    }
+
     /// Whether [`update`](Self::update) would take a finite sample at `t`: its time stamp maps
     /// to a later slot of the fixed-rate grid than the newest sample's.
     pub fn takes_time(&self, t: f64) -> bool {

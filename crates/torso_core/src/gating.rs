@@ -81,6 +81,23 @@ impl JointGate {
         self.replaced_run.fill(0);
     }
 
+    /// Exchanges what the gate remembers of joints `a` and `b` (a track that relabels the
+    /// body's left and right sides). Out-of-range indices are refused before anything changes.
+    pub fn swap(&mut self, a: usize, b: usize) -> Result<()> {
+        for (name, i) in [("a", a), ("b", b)] {
+            if i >= self.n_joints() {
+                return Err(Error::InvalidArgument {
+                    name,
+                    expected: "a joint index below the gate's joint count",
+                    value: i as f64,
+                });
+            }
+        }
+        self.previous.swap(a, b);
+        self.replaced_run.swap(a, b);
+        Ok(())
+    }
+
     /// Gates one frame in place: `joints` (NaN = missing) become the gated positions and
     /// `status` says what happened to each. Lengths are checked before any state changes.
     pub fn update(&mut self, joints: &mut [[f64; 3]], status: &mut [JointStatus]) -> Result<()> {

@@ -6,8 +6,8 @@
 //! the history. Azimuth is unwrapped on the way in, so the history is a continuous signal.
 
 use crate::error::{Error, Result};
-use crate::{Pose, AZIMUTH};
-use std::f64::consts::TAU;
+use crate::{Pose, AZIMUTH, ELEVATION};
+use std::f64::consts::{PI, TAU};
 
 /// What [`History::push`] did besides storing the sample.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -72,6 +72,29 @@ impl History {
     pub fn clear(&mut self) {
         self.len = 0;
         self.head = 0;
+    }
+
+    /// Turns every sample from grid time `t0` on to face the other way: the torso normal is
+    /// negated, so the azimuth gains π and the elevation becomes π minus itself (the track had
+    /// the body's sides the wrong way round since `t0`). The azimuth stays continuous with the
+    /// samples before `t0`.
+    pub fn flip_since(&mut self, t0: f64) {
+        let first_slot = self.last_slot - self.len as i64 + 1;
+        for i in 0..self.len {
+            let slot_time = self.origin + (first_slot + i as i64) as f64 * self.step;
+            if slot_time < t0 - 0.5 * self.step {
+                continue;
+            }
+            let k = (self.head + i) % self.capacity();
+            let mut pose = self.poses[k];
+            pose[AZIMUTH] += PI;
+            pose[ELEVATION] = PI - pose[ELEVATION];
+            if i > 0 {
+                let (before, _) = self.get(i - 1);
+                pose[AZIMUTH] = unwrap_near(pose[AZIMUTH], before[AZIMUTH]);
+            }
+            self.poses[k] = pose;
+        }
     }
 
     /// Whether a sample at `t` would land on a later grid slot than the newest one (always, for

@@ -43,6 +43,7 @@ pub mod gating;
 pub mod history;
 pub mod person;
 pub mod plane;
+pub mod sides;
 pub mod smoothing;
 
 pub use butterworth::{design_lowpass, LowPass, SosFilter, ZeroPhase};

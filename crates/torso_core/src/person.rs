@@ -1,14 +1,16 @@
 //! One tracked person: the thesis' per-person chain (section 3.2) on the 17 COCO keypoints of a
 //! 2D detector, lifted to 3D in the world frame.
 //!
-//! Each frame: undo a left/right swap of the detector, move a far shoulder or hip that the body
-//! hides back to its depth, gate every joint against its previous position relative to the
-//! body's motion, fit the torso plane (or, without enough torso joints, take the azimuth from the
-//! shoulders), and feed the pose to the person's forecaster on its fixed-rate grid. Everything is
-//! on the stack or sized at construction.
+//! Each frame: move a far shoulder or hip that the body hides back to its depth, decide which
+//! way the chest faces from the labels, the nose and the walking direction ([`crate::sides`]),
+//! gate every joint against its previous position relative to the body's motion, fit the torso
+//! plane (or, without enough torso joints, take the azimuth from the shoulders), and feed the
+//! pose to the person's forecaster on its fixed-rate grid. Everything is on the stack or sized
+//! at construction.
 
 use crate::coco::{self, Joints, N_JOINTS, TORSO, TORSO_SIDES};
 use crate::error::{Error, Result};
+use crate::sides::{nose_direction, Decision, Facing, FacingConfig};
 use crate::{
     fit_torso_plane, shoulder_heading, Forecaster, ForecasterConfig, GateConfig, JointGate,
     JointStatus, Pose, AZIMUTH, ELEVATION,
@@ -19,10 +21,6 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 /// (half the shoulder-to-hip distance of an adult), in metres.
 pub const SHOULDER_TO_CENTRE: f64 = 0.25;
 
-/// `|cos|` between the torso normal and the direction to the camera under which a new track's
-/// view counts as a side view, where neither the face nor the normal tells front from back.
-pub const SIDE_VIEW_COSINE: f64 = 0.3;
-
 /// `|cos|` between the torso normal and the direction to the camera above which both joints of a
 /// pair are in view, so that their distance teaches the pair's width (about 37 degrees off
 /// frontal or dorsal).
@@ -31,6 +29,12 @@ pub const FRONTAL_COSINE: f64 = 0.8;
 /// Widths (m) a pair's distance must lie in to be learned: adult shoulders are about 0.35 m
 /// apart at the keypoints, hips 0.25 m.
 pub const PLAUSIBLE_WIDTH: (f64, f64) = (0.15, 0.7);
+
+/// Shoulder and hip widths as fractions of the torso's length (shoulders' midpoint to hips'),
+/// for a track that has not yet seen a frontal view to learn its own: the median keypoint
+/// proportions of frontal views on the scenes benchmark's development split (adult
+/// anthropometry gives about 0.7 and 0.5 for the joint centres).
+const WIDTH_PER_TORSO_LENGTH: [f64; 2] = [0.68, 0.44];
 
 /// Weight of a new frontal frame in the learned widths (an exponential mean over about ten
 /// frames).
@@ -51,13 +55,8 @@ pub struct PersonConfig {
     pub gate: GateConfig,
     /// Keypoints scored below this are missing.
     pub min_score: f64,
-    /// A frame's left/right labels are swapped back when the swapped pairing moves the joints
-    /// less than this fraction of the labelled one…
-    pub swap_ratio: f64,
-    /// …and the labelled pairing moves them more than this (m): below it the two are noise.
-    pub min_swap_motion: f64,
-    /// A face keypoint above this score means the face is seen (used when a track starts).
-    pub face_score: f64,
+    /// How the track decides which way the chest faces ([`crate::sides`]).
+    pub facing: FacingConfig,
     /// A shoulder or hip pair measured shorter than this fraction of its learned width has the
     /// depth of its far joint corrected (see [`Person::update`]); 0 turns the correction off.
     pub occlusion_ratio: f64,
@@ -69,9 +68,7 @@ impl Default for PersonConfig {
             forecaster: ForecasterConfig::live(),
             gate: GateConfig::default(),
             min_score: 0.3,
-            swap_ratio: 0.5,
-            min_swap_motion: 0.10,
-            face_score: 0.3,
+            facing: FacingConfig::default(),
             occlusion_ratio: 0.8,
         }
     }
@@ -82,37 +79,45 @@ impl PersonConfig {
     pub fn validate(&self) -> Result<()> {
         self.forecaster.validate()?;
         JointGate::new(N_JOINTS, self.gate)?;
-        for (name, value) in [
-            ("min_score", self.min_score),
-            ("face_score", self.face_score),
+        if !self.min_score.is_finite() {
+            return Err(Error::InvalidArgument {
+                name: "min_score",
+                expected: "a finite keypoint score",
+                value: self.min_score,
+            });
+        }
+        let f = &self.facing;
+        for (name, value, expected) in [
+            (
+                "facing_memory",
+                f.memory,
+                "a positive, finite time in seconds",
+            ),
+            (
+                "face_weight",
+                f.face_weight,
+                "a finite, non-negative weight",
+            ),
+            (
+                "motion_weight",
+                f.motion_weight,
+                "a finite, non-negative weight",
+            ),
         ] {
-            if !value.is_finite() {
+            let ok = value.is_finite() && value >= 0.0 && (name != "facing_memory" || value > 0.0);
+            if !ok {
                 return Err(Error::InvalidArgument {
                     name,
-                    expected: "a finite keypoint score",
+                    expected,
                     value,
                 });
             }
-        }
-        if !(self.swap_ratio > 0.0 && self.swap_ratio <= 1.0) {
-            return Err(Error::InvalidArgument {
-                name: "swap_ratio",
-                expected: "a fraction in (0, 1]",
-                value: self.swap_ratio,
-            });
         }
         if !(0.0..1.0).contains(&self.occlusion_ratio) {
             return Err(Error::InvalidArgument {
                 name: "occlusion_ratio",
                 expected: "a fraction in [0, 1): 0 turns the correction off",
                 value: self.occlusion_ratio,
-            });
-        }
-        if !(self.min_swap_motion.is_finite() && self.min_swap_motion >= 0.0) {
-            return Err(Error::InvalidArgument {
-                name: "min_swap_motion",
-                expected: "a finite, non-negative distance in metres",
-                value: self.min_swap_motion,
             });
         }
         Ok(())
@@ -149,8 +154,12 @@ pub struct Observation {
     /// when there was nothing to estimate it from.
     pub pose: Option<Pose>,
     pub estimate: Estimate,
-    /// The detector's left and right labels were swapped back in this frame.
+    /// The detector's left and right labels were exchanged in this frame: the track's cues say
+    /// the chest faces the other way from what the labels make it.
     pub swapped: bool,
+    /// The track turned round in this frame: the cues said it had been facing the wrong way,
+    /// and its history was turned round with it.
+    pub reoriented: bool,
     /// The joints after the swap, the depth completion and the gate (NaN where lost).
     pub joints: Joints,
     /// Joints whose measured depth was replaced by the one the learned pair width gives (a far
@@ -179,6 +188,7 @@ pub struct Person {
     last_pose: Option<Pose>,
     /// Shoulder and hip widths learned in frontal and dorsal views.
     widths: [Option<f64>; 2],
+    facing: Facing,
 }
 
 impl Person {
@@ -194,6 +204,7 @@ impl Person {
             centre_offset: None,
             last_pose: None,
             widths: [None; 2],
+            facing: Facing::default(),
         })
     }
 
@@ -246,12 +257,24 @@ impl Person {
                 *s = 0.0;
             }
         }
-        let swapped = self.labels_swapped(&joints, &scores, camera_position);
+        let mut completed = self.complete_occluded(&mut joints, camera_position);
+        let mut decision = Decision::default();
+        if let Some((labelled, centre)) = labelled_heading(&joints) {
+            let seen = std::array::from_fn(|i| finite(&joints[i]));
+            let nose = nose_direction(&joints, &seen);
+            decision = self
+                .facing
+                .decide(t, labelled, centre, nose, &self.config.facing);
+        }
+        if decision.turned {
+            self.turn_round();
+        }
+        let swapped = decision.exchange;
         if swapped {
             coco::swap_sides(&mut joints);
             coco::swap_sides(&mut scores);
+            coco::swap_sides(&mut completed);
         }
-        let completed = self.complete_occluded(&mut joints, camera_position);
         let status = self.gate(&mut joints);
         self.previous = Some(joints);
 
@@ -276,6 +299,7 @@ impl Person {
             }),
             estimate,
             swapped,
+            reoriented: decision.turned,
             joints,
             completed,
             status,
@@ -298,34 +322,30 @@ impl Person {
         Ok(true)
     }
 
-    /// Whether this frame's labels must be exchanged. With a previous frame, the pairing that
-    /// moves the joints less wins; a new track has none, so the face decides: a detector that
-    /// sees a back without a face usually labels it as a front, so a plane facing the camera
-    /// with no face in sight is taken as swapped (and a face on a plane facing away, too).
-    fn labels_swapped(&self, joints: &Joints, scores: &[f64; N_JOINTS], camera: [f64; 3]) -> bool {
-        let c = &self.config;
-        if let Some((same, crossed)) = self.previous.as_ref().and_then(|p| pair_motion(joints, p)) {
-            return same > c.min_swap_motion && crossed < c.swap_ratio * same;
+    /// The track had been facing the wrong way: what it remembers of the body's sides is turned
+    /// round (the last joints, the gate's memory, the last pose and the forecaster's history),
+    /// so that the new heading continues from it.
+    fn turn_round(&mut self) {
+        if let Some(previous) = self.previous.as_mut() {
+            coco::swap_sides(previous);
         }
-        let torso = TORSO.map(|i| joints[i]);
-        let Ok(plane) = fit_torso_plane(&torso, &TORSO_SIDES, None) else {
-            return false;
-        };
-        let to_camera = sub(camera, plane.centre);
-        let facing = dot(plane.normal, to_camera) / norm(to_camera);
-        if !(facing.abs() >= SIDE_VIEW_COSINE) {
-            return false;
+        for (l, r) in coco::LEFT_RIGHT_PAIRS {
+            self.gate.swap(l, r).expect("COCO pairs are gate indices");
         }
-        let face_seen = coco::FACE.iter().any(|&i| scores[i] > c.face_score);
-        face_seen != (facing > 0.0)
+        if let Some(pose) = self.last_pose.as_mut() {
+            pose[AZIMUTH] += PI;
+            pose[ELEVATION] = PI - pose[ELEVATION];
+        }
+        self.forecaster.flip_since(f64::NEG_INFINITY);
     }
 
     /// In a profile view the far shoulder (or hip) is hidden behind the body: the detector still
     /// places it in the image, but the depth read there is the near side's, so the pair comes
     /// out too short and the azimuth lags the turn. The 2D position is right and only the depth
     /// is wrong, so the far joint is moved back along its camera ray to where the pair has the
-    /// width learned in frontal views. The far joint is the one on the side turned away from
-    /// the camera by the last pose.
+    /// width learned in frontal views (before any, the torso's length times
+    /// [`WIDTH_PER_TORSO_LENGTH`]). The far joint is the one on the side turned away from the
+    /// camera by the last pose.
     fn complete_occluded(&mut self, joints: &mut Joints, camera: [f64; 3]) -> [bool; N_JOINTS] {
         let mut completed = [false; N_JOINTS];
         let Some(last) = self.last_pose else {
@@ -336,14 +356,23 @@ impl Person {
         let to_camera = sub(camera, [last[0], last[1], last[2]]);
         let facing = [cos, sin, 0.0];
         let frontal = dot(facing, to_camera).abs() / norm(to_camera) > FRONTAL_COSINE;
-        for ((l, r), width) in PAIRS.iter().zip(self.widths.iter_mut()) {
+        let torso = TORSO.map(|i| joints[i]);
+        let length = torso
+            .iter()
+            .all(finite)
+            .then(|| distance(midpoint(torso[0], torso[1]), midpoint(torso[2], torso[3])));
+        for (((l, r), width), per_length) in PAIRS
+            .iter()
+            .zip(self.widths.iter_mut())
+            .zip(WIDTH_PER_TORSO_LENGTH)
+        {
             if !(finite(&joints[*l]) && finite(&joints[*r])) {
                 continue;
             }
             let measured = distance(joints[*l], joints[*r]);
             if frontal && (PLAUSIBLE_WIDTH.0..=PLAUSIBLE_WIDTH.1).contains(&measured) {
                 *width = Some(width.map_or(measured, |w| w + WIDTH_RATE * (measured - w)));
-            } else if let Some(w) = *width {
+            } else if let Some(w) = width.or(length.map(|l| per_length * l)) {
                 if measured < self.config.occlusion_ratio * w {
                     let (near, far) = if dot(left, to_camera) > 0.0 {
                         (*l, *r)
@@ -437,21 +466,17 @@ impl Person {
     }
 }
 
-/// Mean displacement of the left/right joints seen in both frames, labelled as given and with
-/// the labels exchanged; `None` when no pair is seen in both.
-fn pair_motion(current: &Joints, previous: &Joints) -> Option<(f64, f64)> {
-    let (mut same, mut crossed, mut n) = (0.0, 0.0, 0);
-    for (l, r) in coco::LEFT_RIGHT_PAIRS {
-        if [current[l], current[r], previous[l], previous[r]]
-            .iter()
-            .all(finite)
-        {
-            same += distance(current[l], previous[l]) + distance(current[r], previous[r]);
-            crossed += distance(current[l], previous[r]) + distance(current[r], previous[l]);
-            n += 2;
-        }
+/// Azimuth and centre of the torso plane through the seen torso joints as labelled, or of the
+/// shoulder line where fewer than three are seen; `None` where neither can be had.
+fn labelled_heading(joints: &Joints) -> Option<(f64, [f64; 3])> {
+    let torso = TORSO.map(|i| joints[i]);
+    if let Ok(plane) = fit_torso_plane(&torso, &TORSO_SIDES, None) {
+        return Some((plane.azimuth, plane.centre));
     }
-    (n > 0).then(|| (same / n as f64, crossed / n as f64))
+    let [left, right] = [torso[0], torso[1]];
+    shoulder_heading(left, right)
+        .ok()
+        .map(|h| (h.azimuth, h.centre))
 }
 
 /// The point on the camera ray through `seen` that lies `width` from `anchor`, behind `seen`
@@ -584,13 +609,14 @@ mod tests {
     }
 
     #[test]
-    fn a_turning_person_gets_the_plane_azimuth_and_back_views_are_unswapped() {
+    fn a_turning_person_labelled_right_keeps_the_labels_and_a_short_swap_is_undone() {
         let mut track = Person::new(PersonConfig::default()).unwrap();
         for k in 0..90 {
             let yaw = PI + (4.0 * k as f64).to_radians();
             let (mut joints, mut scores) = person([2.0, 0.0, 1.0], yaw, true);
-            let back = yaw.cos() > 0.3;
-            if back {
+            // The detector exchanges the sides for three frames (0.12 s) in the back view.
+            let swap = (45..48).contains(&k);
+            if swap {
                 coco::swap_sides(&mut joints);
                 coco::swap_sides(&mut scores);
             }
@@ -598,25 +624,54 @@ mod tests {
                 .update(k as f64 / 25.0, &joints, &scores, CAMERA)
                 .unwrap();
             assert_eq!(obs.estimate, Estimate::Plane);
-            assert_eq!(obs.swapped, back, "frame {k}");
+            assert_eq!(obs.swapped, swap, "frame {k}");
+            assert!(!obs.reoriented);
             let pose = obs.pose.unwrap();
-            assert!(angle_error(pose[AZIMUTH], yaw) < 1e-9);
+            assert!(angle_error(pose[AZIMUTH], yaw) < 1e-9, "frame {k}");
             assert!((pose[ELEVATION] - FRAC_PI_2).abs() < 1e-9);
             assert!(pose[AZIMUTH] > -PI && pose[AZIMUTH] <= PI);
         }
     }
 
     #[test]
-    fn a_new_track_seen_from_behind_is_unswapped_by_the_missing_face() {
-        let (mut joints, mut scores) = person([2.0, 0.5, 1.0], 0.2, true);
-        let mut right = Person::new(PersonConfig::default()).unwrap();
-        let obs = right.update(0.0, &joints, &scores, CAMERA).unwrap();
+    fn a_new_track_takes_the_labels_even_from_behind() {
+        let (joints, scores) = person([2.0, 0.5, 1.0], 0.2, true); // back to the camera
+        let mut track = Person::new(PersonConfig::default()).unwrap();
+        let obs = track.update(0.0, &joints, &scores, CAMERA).unwrap();
         assert!(!obs.swapped && angle_error(obs.pose.unwrap()[AZIMUTH], 0.2) < 1e-9);
-        coco::swap_sides(&mut joints);
-        coco::swap_sides(&mut scores);
-        let mut swapped = Person::new(PersonConfig::default()).unwrap();
-        let obs = swapped.update(0.0, &joints, &scores, CAMERA).unwrap();
-        assert!(obs.swapped && angle_error(obs.pose.unwrap()[AZIMUTH], 0.2) < 1e-9);
+    }
+
+    #[test]
+    fn a_track_born_the_wrong_way_turns_round_with_its_history() {
+        // Born from exchanged labels while walking towards +y and facing it; then labelled
+        // right, with the nose in front: the cues turn the track round, history included.
+        let mut track = Person::new(PersonConfig::default()).unwrap();
+        let mut turned = 0;
+        for k in 0..40 {
+            let t = k as f64 / 25.0;
+            let (mut joints, mut scores) = person([2.0, 0.4 * t, 1.0], FRAC_PI_2, true);
+            if k < 5 {
+                coco::swap_sides(&mut joints);
+                coco::swap_sides(&mut scores);
+                scores[NOSE] = 0.0;
+            }
+            let obs = track.update(t, &joints, &scores, CAMERA).unwrap();
+            turned += usize::from(obs.reoriented);
+            let pose = obs.pose.unwrap();
+            let want = if turned > 0 { FRAC_PI_2 } else { -FRAC_PI_2 };
+            assert!(angle_error(pose[AZIMUTH], want) < 1e-9, "frame {k}");
+        }
+        assert_eq!(turned, 1);
+        let f = track.forecaster();
+        for i in 0..f.len() {
+            let (pose, _) = f.sample(i).unwrap();
+            assert!(angle_error(pose[AZIMUTH], FRAC_PI_2) < 1e-9, "sample {i}");
+            assert!((pose[ELEVATION] - FRAC_PI_2).abs() < 1e-9);
+            if i > 0 {
+                let (before, _) = f.sample(i - 1).unwrap();
+                assert!((pose[AZIMUTH] - before[AZIMUTH]).abs() < 1e-9);
+            }
+        }
     }
 
     #[test]
@@ -723,7 +778,10 @@ mod tests {
         assert_eq!((obs.pose, obs.estimate), (None, Estimate::None));
         assert!(!fresh.forecast(&[0.4], &mut [[0.0; 5]]).unwrap());
         let bad = PersonConfig {
-            swap_ratio: 0.0,
+            facing: FacingConfig {
+                memory: 0.0,
+                ..FacingConfig::default()
+            },
             ..PersonConfig::default()
         };
         assert!(Person::new(bad).is_err());

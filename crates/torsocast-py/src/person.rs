@@ -9,10 +9,11 @@ use numpy::{
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use torso_core::coco::{Joints, N_JOINTS};
+use torso_core::sides::FacingConfig;
 use torso_core::{Estimate, GateConfig, JointStatus, PersonConfig, Pose};
 
 /// Person(forecaster=None, *, gate_threshold=None, gate_max_replacements=None, min_score=None,
-/// swap_ratio=None, min_swap_motion=None, face_score=None, occlusion_ratio=None): a parameter
+/// facing_memory=None, face_weight=None, motion_weight=None, occlusion_ratio=None): a parameter
 /// left out takes the core's default (`PersonConfig::default()`, listed by `parameters`).
 #[pyclass(module = "torsocast._core")]
 pub struct Person {
@@ -37,7 +38,7 @@ impl Person {
     #[new]
     #[pyo3(signature = (
         forecaster=None, *, gate_threshold=None, gate_max_replacements=None, min_score=None,
-        swap_ratio=None, min_swap_motion=None, face_score=None, occlusion_ratio=None
+        facing_memory=None, face_weight=None, motion_weight=None, occlusion_ratio=None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn new(
@@ -45,9 +46,9 @@ impl Person {
         gate_threshold: Option<f64>,
         gate_max_replacements: Option<u32>,
         min_score: Option<f64>,
-        swap_ratio: Option<f64>,
-        min_swap_motion: Option<f64>,
-        face_score: Option<f64>,
+        facing_memory: Option<f64>,
+        face_weight: Option<f64>,
+        motion_weight: Option<f64>,
         occlusion_ratio: Option<f64>,
     ) -> PyResult<Self> {
         // The defaults live in the core only, so that Python and Rust users get the same track.
@@ -60,9 +61,11 @@ impl Person {
                 max_replacements: gate_max_replacements.unwrap_or(d.gate.max_replacements),
             },
             min_score: min_score.unwrap_or(d.min_score),
-            swap_ratio: swap_ratio.unwrap_or(d.swap_ratio),
-            min_swap_motion: min_swap_motion.unwrap_or(d.min_swap_motion),
-            face_score: face_score.unwrap_or(d.face_score),
+            facing: FacingConfig {
+                memory: facing_memory.unwrap_or(d.facing.memory),
+                face_weight: face_weight.unwrap_or(d.facing.face_weight),
+                motion_weight: motion_weight.unwrap_or(d.facing.motion_weight),
+            },
             occlusion_ratio: occlusion_ratio.unwrap_or(d.occlusion_ratio),
         };
         Ok(Self {
@@ -80,9 +83,9 @@ impl Person {
         dict.set_item("gate_threshold", c.gate.threshold)?;
         dict.set_item("gate_max_replacements", c.gate.max_replacements)?;
         dict.set_item("min_score", c.min_score)?;
-        dict.set_item("swap_ratio", c.swap_ratio)?;
-        dict.set_item("min_swap_motion", c.min_swap_motion)?;
-        dict.set_item("face_score", c.face_score)?;
+        dict.set_item("facing_memory", c.facing.memory)?;
+        dict.set_item("face_weight", c.facing.face_weight)?;
+        dict.set_item("motion_weight", c.facing.motion_weight)?;
         dict.set_item("occlusion_ratio", c.occlusion_ratio)?;
         Ok(dict)
     }
@@ -177,6 +180,11 @@ impl Observation {
     #[getter]
     fn swapped(&self) -> bool {
         self.inner.swapped
+    }
+
+    #[getter]
+    fn reoriented(&self) -> bool {
+        self.inner.reoriented
     }
 
     /// (17, 3) joints after the swap and the gate, NaN where lost.

@@ -29,8 +29,10 @@ F64 = npt.NDArray[np.float64]
 
 def torso_truth(joints: F64) -> F64:
     """``(frames, 5)`` torso poses ``(x, y, z, azimuth, elevation)`` of ``(frames, 38, 3)`` mocap
-    joints: the plane through the shoulders and hips, as for detected keypoints."""
-    planes = fit_planes(np.ascontiguousarray(joints[:, list(cmu.TORSO)]), coco.TORSO_SIDES)
+    joints: the plane through the shoulders and hips, as for detected keypoints. Every frame is
+    oriented, bent far forward too (mocap has no detector noise to flip the normal's sign)."""
+    torso = np.ascontiguousarray(joints[:, list(cmu.TORSO)])
+    planes = fit_planes(torso, coco.TORSO_SIDES, min_orientation_cosine=0.0)
     return np.column_stack([planes["centre"], planes["azimuth"], planes["elevation"]])
 
 

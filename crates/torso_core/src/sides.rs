@@ -1,0 +1,237 @@
+//! Which way a person faces: the sign of the torso normal, kept per track from several cues.
+//!
+//! The torso plane gives the normal's line well; which of its two directions is the chest comes
+//! from the detector's left/right labels, and those are wrong in a share of frames (small or far
+//! people, profile views), often for many frames in a row. So a track keeps its heading
+//! continuous from frame to frame and weighs, with a memory of a second or so, three cues to
+//! whether that heading or its opposite is the chest's:
+//!
+//! - the labels: the labelled plane's normal on the heading's side or the opposite one;
+//! - the face: the nose, seen in front and profile views, stands in front of the shoulders;
+//! - the motion: people mostly face where they walk, when they walk fast enough to tell.
+//!
+//! When the weighed evidence turns against the heading, the track turns round: the heading and
+//! everything the track remembers of the body's sides are reversed.
+
+use crate::coco::{self, Joints, N_JOINTS};
+use std::f64::consts::PI;
+
+/// A nose less than this (m) in front of the shoulders' midpoint, horizontally, says nothing.
+const MIN_NOSE_OFFSET: f64 = 0.03;
+/// Walking slower than this (m/s) says nothing of the heading; the motion cue reaches its full
+/// weight `FULL_SPEED_SPAN` faster.
+const MIN_SPEED: f64 = 0.5;
+const FULL_SPEED_SPAN: f64 = 0.5;
+/// Time constant (s) of the smoothed velocity the motion cue reads.
+const VELOCITY_TIME: f64 = 0.5;
+/// Evidence is counted per this much time (s), so that a camera's frame rate does not change
+/// how fast it builds; a longer step than `MAX_STEP` counts as `MAX_STEP`.
+const UNIT_STEP: f64 = 0.04;
+const MAX_STEP: f64 = 0.2;
+
+/// How much each cue counts, and for how long.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FacingConfig {
+    /// Time constant (s) over which evidence is forgotten.
+    pub memory: f64,
+    /// Weight of the nose cue, relative to the labels' (1 per 0.04 s of agreement).
+    pub face_weight: f64,
+    /// Weight of the walking-direction cue, relative to the labels'.
+    pub motion_weight: f64,
+}
+
+impl Default for FacingConfig {
+    fn default() -> Self {
+        Self {
+            memory: 1.0,
+            face_weight: 2.0,
+            motion_weight: 1.0,
+        }
+    }
+}
+
+/// What one frame's cues decided.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Decision {
+    /// The chest faces the opposite way from the labelled plane's normal this frame: the
+    /// labels are to be exchanged.
+    pub exchange: bool,
+    /// The track turned round: its heading before this frame was the back's, not the chest's.
+    pub turned: bool,
+    /// The heading (the chest's azimuth, unwrapped near the previous one).
+    pub heading: f64,
+}
+
+/// One track's heading and the evidence for it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Facing {
+    heading: Option<f64>,
+    evidence: f64,
+    last: Option<(f64, [f64; 2])>,
+    velocity: [f64; 2],
+}
+
+impl Facing {
+    /// The decision for a frame at `t` whose labelled plane (or shoulder line) has azimuth
+    /// `labelled` and centre `centre`, with the nose's horizontal direction from the shoulders
+    /// (`nose`, see [`nose_direction`]) where it is seen.
+    pub fn decide(
+        &mut self,
+        t: f64,
+        labelled: f64,
+        centre: [f64; 3],
+        nose: Option<f64>,
+        config: &FacingConfig,
+    ) -> Decision {
+        let (dt, candidate) = match (self.heading, self.last) {
+            (Some(h), Some((last_t, _))) => {
+                let near = labelled + 2.0 * PI * ((h - labelled) / (2.0 * PI)).round();
+                let near = if (near - h).abs() <= PI / 2.0 {
+                    near
+                } else if near > h {
+                    near - PI
+                } else {
+                    near + PI
+                };
+                ((t - last_t).clamp(0.0, MAX_STEP), near)
+            }
+            _ => (UNIT_STEP, labelled),
+        };
+        if let Some((last_t, last_centre)) = self.last {
+            let step = t - last_t;
+            if step > 0.0 {
+                let gain = 1.0 - (-step / VELOCITY_TIME).exp();
+                for k in 0..2 {
+                    let v = (centre[k] - last_centre[k]) / step;
+                    self.velocity[k] += gain * (v - self.velocity[k]);
+                }
+            }
+        }
+        self.last = Some((t, [centre[0], centre[1]]));
+        let unit = dt / UNIT_STEP;
+        let agrees = |direction: f64| (direction - candidate).cos().signum();
+        let mut vote = agrees(labelled);
+        if let Some(n) = nose {
+            vote += config.face_weight * agrees(n);
+        }
+        let speed = self.velocity[0].hypot(self.velocity[1]);
+        if speed > MIN_SPEED {
+            let strength = ((speed - MIN_SPEED) / FULL_SPEED_SPAN).min(1.0);
+            vote +=
+                config.motion_weight * strength * agrees(self.velocity[1].atan2(self.velocity[0]));
+        }
+        self.evidence = self.evidence * (-dt / config.memory).exp() + unit * vote;
+        let mut heading = candidate;
+        let mut turned = false;
+        if self.evidence < 0.0 {
+            heading += PI;
+            self.evidence = -self.evidence;
+            turned = self.heading.is_some();
+        }
+        self.heading = Some(heading);
+        let exchange = (heading - labelled).cos() < 0.0;
+        Decision {
+            exchange,
+            turned,
+            heading,
+        }
+    }
+
+    /// The current heading's opposite becomes the heading (the track's sides were reversed
+    /// from outside).
+    pub fn reverse(&mut self) {
+        if let Some(h) = self.heading.as_mut() {
+            *h += PI;
+        }
+    }
+}
+
+/// Horizontal direction (azimuth) from the shoulders' midpoint to the nose, where the nose and
+/// both shoulders are seen and the nose stands out at least `MIN_NOSE_OFFSET`.
+pub fn nose_direction(joints: &Joints, seen: &[bool; N_JOINTS]) -> Option<f64> {
+    let [n, l, r] = [coco::NOSE, coco::LEFT_SHOULDER, coco::RIGHT_SHOULDER];
+    if !(seen[n] && seen[l] && seen[r]) {
+        return None;
+    }
+    let dx = joints[n][0] - 0.5 * (joints[l][0] + joints[r][0]);
+    let dy = joints[n][1] - 0.5 * (joints[l][1] + joints[r][1]);
+    (dx.hypot(dy) >= MIN_NOSE_OFFSET).then(|| dy.atan2(dx))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn error(a: f64, b: f64) -> f64 {
+        crate::person::wrap_angle(a - b).abs()
+    }
+
+    #[test]
+    fn labels_alone_decide_and_a_short_disagreement_does_not_turn_the_track() {
+        let config = FacingConfig::default();
+        let mut facing = Facing::default();
+        for k in 0..50 {
+            let t = k as f64 / 25.0;
+            // Labels exchanged in frames 20 to 24 (0.2 s): the heading holds.
+            let labelled = if (20..25).contains(&k) { 0.3 + PI } else { 0.3 };
+            let d = facing.decide(t, labelled, [2.0, 0.0, 1.0], None, &config);
+            assert!(error(d.heading, 0.3) < 1e-12, "frame {k}");
+            assert_eq!(d.exchange, (20..25).contains(&k));
+            assert!(!d.turned);
+        }
+    }
+
+    #[test]
+    fn a_steady_cue_against_the_heading_turns_the_track_round() {
+        let config = FacingConfig::default();
+        let mut facing = Facing::default();
+        // Born from exchanged labels (heading 0.3 + π), then a nose and labels that say 0.3.
+        let first = facing.decide(0.0, 0.3 + PI, [2.0, 0.0, 1.0], None, &config);
+        assert!(error(first.heading, 0.3 + PI) < 1e-12);
+        let mut turned_at = None;
+        for k in 1..50 {
+            let d = facing.decide(k as f64 / 25.0, 0.3, [2.0, 0.0, 1.0], Some(0.4), &config);
+            if d.turned {
+                turned_at = Some(k);
+            }
+            if turned_at.is_some() {
+                assert!(error(d.heading, 0.3) < 1e-12 && !d.exchange, "frame {k}");
+            }
+        }
+        assert_eq!(turned_at, Some(1)); // three votes against one: at once
+    }
+
+    #[test]
+    fn walking_decides_where_the_labels_are_mostly_wrong() {
+        // Walking along +x at 1.5 m/s, no face seen, and labels that say it faces -x in three
+        // frames of five: the walking direction wins; standing still, the labels would.
+        for (speed, want) in [(1.5, 0.0), (0.0, PI)] {
+            let mut facing = Facing::default();
+            let mut last = Decision::default();
+            for k in 0..75 {
+                let t = k as f64 / 25.0;
+                let labelled = if k % 5 < 3 { PI } else { 0.0 };
+                let config = FacingConfig::default();
+                last = facing.decide(t, labelled, [speed * t, 0.0, 1.0], None, &config);
+            }
+            assert!(error(last.heading, want) < 1e-12, "speed {speed}");
+        }
+    }
+
+    #[test]
+    fn the_nose_direction_is_horizontal_and_needs_an_offset() {
+        let mut joints = [[f64::NAN; 3]; N_JOINTS];
+        let mut seen = [false; N_JOINTS];
+        joints[coco::LEFT_SHOULDER] = [2.0, -0.18, 1.4];
+        joints[coco::RIGHT_SHOULDER] = [2.0, 0.18, 1.4];
+        joints[coco::NOSE] = [1.9, 0.0, 1.65];
+        for i in [coco::NOSE, coco::LEFT_SHOULDER, coco::RIGHT_SHOULDER] {
+            seen[i] = true;
+        }
+        assert!(error(nose_direction(&joints, &seen).unwrap(), PI) < 1e-12);
+        joints[coco::NOSE] = [1.99, 0.0, 1.65];
+        assert_eq!(nose_direction(&joints, &seen), None);
+        seen[coco::NOSE] = false;
+        assert_eq!(nose_direction(&joints, &seen), None);
+    }
+}
