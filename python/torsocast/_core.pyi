@@ -198,6 +198,7 @@ class Person:
         facing_memory: float | None = None,
         face_weight: float | None = None,
         motion_weight: float | None = None,
+        check_horizon: float | None = None,
         occlusion_ratio: float | None = None,
     ) -> Person: ...
     def update(

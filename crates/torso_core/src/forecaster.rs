@@ -327,7 +327,6 @@ impl Forecaster {
         (i < self.history.len()).then(|| self.history.get(i))
     }
 
-    /// Fewest samples before [`Forecaster::forecast`] answers.
     /// Turns the history's samples from time `t0` on to face the other way (see
     /// [`Person`](crate::Person): a track that had the body's sides the wrong way round).
     pub fn flip_since(&mut self, t0: f64) {
@@ -340,6 +339,7 @@ impl Forecaster {
         t.is_finite() && self.history.takes_time(t)
     }
 
+    /// Fewest samples before [`Forecaster::forecast`] answers.
     pub fn min_samples(&self) -> usize {
         match &self.engine {
             Engine::Const => 1,

@@ -43,6 +43,7 @@ pub mod gating;
 pub mod history;
 pub mod person;
 pub mod plane;
+pub mod selfcheck;
 pub mod sides;
 pub mod smoothing;
 

@@ -10,6 +10,7 @@
 
 use crate::coco::{self, Joints, N_JOINTS, TORSO, TORSO_SIDES};
 use crate::error::{Error, Result};
+use crate::selfcheck::SelfCheck;
 use crate::sides::{nose_direction, Decision, Facing, FacingConfig};
 use crate::{
     fit_torso_plane, shoulder_heading, Forecaster, ForecasterConfig, GateConfig, JointGate,
@@ -57,6 +58,10 @@ pub struct PersonConfig {
     pub min_score: f64,
     /// How the track decides which way the chest faces ([`crate::sides`]).
     pub facing: FacingConfig,
+    /// Horizon (s) at which the track checks its forecasts against its own later samples and
+    /// mixes the forecast with holding still where the trend does not come true
+    /// ([`crate::selfcheck`]); 0 gives the forecaster's output unmixed.
+    pub check_horizon: f64,
     /// A shoulder or hip pair measured shorter than this fraction of its learned width has the
     /// depth of its far joint corrected (see [`Person::update`]); 0 turns the correction off.
     pub occlusion_ratio: f64,
@@ -69,6 +74,7 @@ impl Default for PersonConfig {
             gate: GateConfig::default(),
             min_score: 0.3,
             facing: FacingConfig::default(),
+            check_horizon: 0.4,
             occlusion_ratio: 0.8,
         }
     }
@@ -84,6 +90,13 @@ impl PersonConfig {
                 name: "min_score",
                 expected: "a finite keypoint score",
                 value: self.min_score,
+            });
+        }
+        if !(self.check_horizon.is_finite() && (0.0..=10.0).contains(&self.check_horizon)) {
+            return Err(Error::InvalidArgument {
+                name: "check_horizon",
+                expected: "a horizon in seconds from 0 (no check) to 10",
+                value: self.check_horizon,
             });
         }
         let f = &self.facing;
@@ -189,6 +202,7 @@ pub struct Person {
     /// Shoulder and hip widths learned in frontal and dorsal views.
     widths: [Option<f64>; 2],
     facing: Facing,
+    check: Option<SelfCheck>,
 }
 
 impl Person {
@@ -205,6 +219,8 @@ impl Person {
             last_pose: None,
             widths: [None; 2],
             facing: Facing::default(),
+            check: (config.check_horizon > 0.0)
+                .then(|| SelfCheck::new(config.check_horizon, config.forecaster.rate_hz)),
         })
     }
 
@@ -287,6 +303,7 @@ impl Person {
                 let report = self.forecaster.update(pose, t, weight)?;
                 grid.filled = report.filled;
                 grid.restarted = report.restarted;
+                self.check_forecast(report.restarted);
             } else {
                 grid.skipped = true;
             }
@@ -316,10 +333,48 @@ impl Person {
             return Ok(false);
         }
         self.forecaster.forecast(horizons, out)?;
+        if let Some(check) = &self.check {
+            let (hold, _) = self
+                .forecaster
+                .sample(self.forecaster.len() - 1)
+                .expect("not empty");
+            let mix = check.trend_weights();
+            for pose in out.iter_mut() {
+                for c in 0..5 {
+                    pose[c] = hold[c] + mix[c] * (pose[c] - hold[c]);
+                }
+            }
+        }
         for pose in out.iter_mut() {
             pose[AZIMUTH] = wrap_angle(pose[AZIMUTH]);
         }
         Ok(true)
+    }
+
+    /// Scores the track's earlier forecasts against the sample just taken and records the next
+    /// one ([`crate::selfcheck`]).
+    fn check_forecast(&mut self, restarted: bool) {
+        let Some(check) = self.check.as_mut() else {
+            return;
+        };
+        if restarted {
+            check.reset();
+        }
+        let n = self.forecaster.len();
+        let (Some(t), Some((sample, _))) =
+            (self.forecaster.last_time(), self.forecaster.sample(n - 1))
+        else {
+            return;
+        };
+        let mut ahead = [[0.0; 5]; 1];
+        // Too short a history (or any refusal) leaves nothing to record this time.
+        if self
+            .forecaster
+            .forecast(&[check.horizon()], &mut ahead)
+            .is_ok()
+        {
+            check.record(t, sample, ahead[0]);
+        }
     }
 
     /// The track had been facing the wrong way: what it remembers of the body's sides is turned
@@ -337,6 +392,9 @@ impl Person {
             pose[ELEVATION] = PI - pose[ELEVATION];
         }
         self.forecaster.flip_since(f64::NEG_INFINITY);
+        if let Some(check) = self.check.as_mut() {
+            check.drop_pending();
+        }
     }
 
     /// In a profile view the far shoulder (or hip) is hidden behind the body: the detector still

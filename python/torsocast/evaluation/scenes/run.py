@@ -175,4 +175,10 @@ def evaluate(
             bench.picture, best_count = best, len(best.forecasts)
         if bar:
             bar(f"{spec.name}: {len(spec.actors)} people, {frames} frames")
+    if bench.picture is None and specs:
+        # Every scene was replayed (no images): render the most crowded one again for the figure.
+        crowd = max(specs, key=lambda s: len(s.actors))
+        model = models.single if len(crowd.actors) <= 1 else models.multi
+        assert model is not None
+        _, bench.picture, _ = run_scene(crowd, catalogue, model)
     return bench
