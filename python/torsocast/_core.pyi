@@ -198,7 +198,7 @@ class Person:
         facing_memory: float | None = None,
         face_weight: float | None = None,
         motion_weight: float | None = None,
-        check_horizon: float | None = None,
+        self_check: bool | None = None,
         occlusion_ratio: float | None = None,
     ) -> Person: ...
     def update(
@@ -213,7 +213,7 @@ class Person:
     @property
     def forecaster(self) -> ForecasterConfig: ...
     @property
-    def parameters(self) -> dict[str, float]: ...
+    def parameters(self) -> dict[str, float | bool]: ...
 
 @final
 class Observation:

@@ -50,10 +50,10 @@ class TrackConfig:
     """Weight of the nose standing in front of the shoulders, relative to the labels'."""
     motion_weight: float = 1.0
     """Weight of the walking direction, relative to the labels'."""
-    check_horizon: float = 0.4
-    """Horizon (s) at which the track scores its forecasts against its own later samples and
-    mixes each pose component's forecast with holding it still by how well the trend came true
-    (``torso_core::selfcheck``); 0 turns the check off."""
+    self_check: bool = True
+    """The track scores its forecasts at 0.4, 1 and 2 s against its own later samples and gives
+    out, per pose component, the mix of holding still, the damped trend and the plain trend that
+    erred least (``torso_core::selfcheck``); False gives the forecaster's output as it is."""
     occlusion_ratio: float = 0.8
     """A shoulder or hip pair measured shorter than this fraction of the width learned in
     frontal views has its far joint moved back along its camera ray to that width (profile
@@ -74,7 +74,7 @@ class Track:
             facing_memory=c.facing_memory,
             face_weight=c.face_weight,
             motion_weight=c.motion_weight,
-            check_horizon=c.check_horizon,
+            self_check=c.self_check,
             occlusion_ratio=c.occlusion_ratio,
         )
 

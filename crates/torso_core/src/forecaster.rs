@@ -362,7 +362,31 @@ impl Forecaster {
     /// Forecasts the pose `horizons[h]` seconds after the last sample into `out[h]`. Azimuth
     /// comes out unwrapped (continuous with the history); wrap it only for display.
     pub fn forecast(&mut self, horizons: &[f64], out: &mut [Pose]) -> Result<()> {
-        check_len("out", out.len(), horizons.len())?;
+        let (d, order) = self.derivatives(horizons, out.len())?;
+        self.extrapolate(&d, order, horizons, out, true);
+        Ok(())
+    }
+
+    /// [`forecast`](Self::forecast) into `damped`, and the same fit continued as its plain
+    /// polynomial (no damping) into `plain`, from one fit. For methods without damping the
+    /// two are equal.
+    pub fn forecast_both(
+        &mut self,
+        horizons: &[f64],
+        damped: &mut [Pose],
+        plain: &mut [Pose],
+    ) -> Result<()> {
+        check_len("plain", plain.len(), horizons.len())?;
+        let (d, order) = self.derivatives(horizons, damped.len())?;
+        self.extrapolate(&d, order, horizons, damped, true);
+        self.extrapolate(&d, order, horizons, plain, false);
+        Ok(())
+    }
+
+    /// The end derivatives of every component and their highest order, after the checks every
+    /// forecast makes.
+    fn derivatives(&mut self, horizons: &[f64], out_len: usize) -> Result<(Derivatives, usize)> {
+        check_len("out", out_len, horizons.len())?;
         if let Some(&value) = horizons.iter().find(|h| !(h.is_finite() && **h >= 0.0)) {
             return Err(Error::InvalidArgument {
                 name: "horizons",
@@ -396,8 +420,19 @@ impl Forecaster {
             }
             Engine::Spline(e) => e.derivatives(&self.history, &mut d)?,
         };
+        Ok((d, order))
+    }
+
+    fn extrapolate(
+        &self,
+        d: &Derivatives,
+        order: usize,
+        horizons: &[f64],
+        out: &mut [Pose],
+        damped: bool,
+    ) {
         let damping = match &self.engine {
-            Engine::Spline(e) => match e.cfg.extrapolation {
+            Engine::Spline(e) if damped => match e.cfg.extrapolation {
                 Extrapolation::Damped { time_constants } if order >= 1 => Some(time_constants),
                 _ => None,
             },
@@ -411,7 +446,6 @@ impl Forecaster {
                 };
             }
         }
-        Ok(())
     }
 }
 

@@ -10,7 +10,7 @@
 
 use crate::coco::{self, Joints, N_JOINTS, TORSO, TORSO_SIDES};
 use crate::error::{Error, Result};
-use crate::selfcheck::SelfCheck;
+use crate::selfcheck::{SelfCheck, HORIZONS as CHECK_HORIZONS};
 use crate::sides::{nose_direction, Decision, Facing, FacingConfig};
 use crate::{
     fit_torso_plane, shoulder_heading, Forecaster, ForecasterConfig, GateConfig, JointGate,
@@ -30,6 +30,9 @@ pub const FRONTAL_COSINE: f64 = 0.8;
 /// Widths (m) a pair's distance must lie in to be learned: adult shoulders are about 0.35 m
 /// apart at the keypoints, hips 0.25 m.
 pub const PLAUSIBLE_WIDTH: (f64, f64) = (0.15, 0.7);
+
+/// Most horizons one [`Person::forecast`] call takes.
+pub const MAX_HORIZONS: usize = 32;
 
 /// Shoulder and hip widths as fractions of the torso's length (shoulders' midpoint to hips'),
 /// for a track that has not yet seen a frontal view to learn its own: the median keypoint
@@ -58,10 +61,10 @@ pub struct PersonConfig {
     pub min_score: f64,
     /// How the track decides which way the chest faces ([`crate::sides`]).
     pub facing: FacingConfig,
-    /// Horizon (s) at which the track checks its forecasts against its own later samples and
-    /// mixes the forecast with holding still where the trend does not come true
-    /// ([`crate::selfcheck`]); 0 gives the forecaster's output unmixed.
-    pub check_horizon: f64,
+    /// The track checks its forecasts against its own later samples and mixes holding still,
+    /// the damped trend and the plain trend by how well each came true ([`crate::selfcheck`]);
+    /// `false` gives the forecaster's output as it is.
+    pub self_check: bool,
     /// A shoulder or hip pair measured shorter than this fraction of its learned width has the
     /// depth of its far joint corrected (see [`Person::update`]); 0 turns the correction off.
     pub occlusion_ratio: f64,
@@ -74,7 +77,7 @@ impl Default for PersonConfig {
             gate: GateConfig::default(),
             min_score: 0.3,
             facing: FacingConfig::default(),
-            check_horizon: 0.4,
+            self_check: true,
             occlusion_ratio: 0.8,
         }
     }
@@ -90,13 +93,6 @@ impl PersonConfig {
                 name: "min_score",
                 expected: "a finite keypoint score",
                 value: self.min_score,
-            });
-        }
-        if !(self.check_horizon.is_finite() && (0.0..=10.0).contains(&self.check_horizon)) {
-            return Err(Error::InvalidArgument {
-                name: "check_horizon",
-                expected: "a horizon in seconds from 0 (no check) to 10",
-                value: self.check_horizon,
             });
         }
         let f = &self.facing;
@@ -203,6 +199,8 @@ pub struct Person {
     widths: [Option<f64>; 2],
     facing: Facing,
     check: Option<SelfCheck>,
+    /// Room for the plain continuation of [`Person::forecast`]'s horizons.
+    scratch: [Pose; MAX_HORIZONS],
 }
 
 impl Person {
@@ -219,8 +217,10 @@ impl Person {
             last_pose: None,
             widths: [None; 2],
             facing: Facing::default(),
-            check: (config.check_horizon > 0.0)
-                .then(|| SelfCheck::new(config.check_horizon, config.forecaster.rate_hz)),
+            check: config
+                .self_check
+                .then(|| SelfCheck::new(config.forecaster.rate_hz)),
+            scratch: [[0.0; 5]; MAX_HORIZONS],
         })
     }
 
@@ -332,16 +332,27 @@ impl Person {
         if self.forecaster.len() < self.forecaster.min_samples() {
             return Ok(false);
         }
-        self.forecaster.forecast(horizons, out)?;
-        if let Some(check) = &self.check {
-            let (hold, _) = self
-                .forecaster
-                .sample(self.forecaster.len() - 1)
-                .expect("not empty");
-            let mix = check.trend_weights();
-            for pose in out.iter_mut() {
-                for c in 0..5 {
-                    pose[c] = hold[c] + mix[c] * (pose[c] - hold[c]);
+        match &self.check {
+            None => self.forecaster.forecast(horizons, out)?,
+            Some(check) => {
+                if horizons.len() > MAX_HORIZONS {
+                    return Err(Error::InvalidArgument {
+                        name: "horizons",
+                        expected: "at most MAX_HORIZONS (32) horizons per call",
+                        value: horizons.len() as f64,
+                    });
+                }
+                let plain = &mut self.scratch[..horizons.len()];
+                self.forecaster.forecast_both(horizons, out, plain)?;
+                let (hold, _) = self
+                    .forecaster
+                    .sample(self.forecaster.len() - 1)
+                    .expect("not empty");
+                for ((pose, plain), h) in out.iter_mut().zip(plain.iter()).zip(horizons) {
+                    let w = check.weights(*h);
+                    for c in 0..5 {
+                        pose[c] = w[c][0] * hold[c] + w[c][1] * pose[c] + w[c][2] * plain[c];
+                    }
                 }
             }
         }
@@ -366,14 +377,14 @@ impl Person {
         else {
             return;
         };
-        let mut ahead = [[0.0; 5]; 1];
+        let (mut damped, mut plain) = ([[0.0; 5]; 3], [[0.0; 5]; 3]);
         // Too short a history (or any refusal) leaves nothing to record this time.
         if self
             .forecaster
-            .forecast(&[check.horizon()], &mut ahead)
+            .forecast_both(&CHECK_HORIZONS, &mut damped, &mut plain)
             .is_ok()
         {
-            check.record(t, sample, ahead[0]);
+            check.record(t, sample, &damped, &plain);
         }
     }
 

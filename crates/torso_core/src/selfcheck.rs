@@ -1,14 +1,15 @@
 //! A track's forecast, checked against the track's own recent past.
 //!
-//! Whether a trend is worth continuing depends on the person and on the detector: a walker's
-//! centre moves steadily, while a detector's azimuth noise on a person standing still makes
-//! any fitted trend a guess. Each time the forecaster takes a sample, it also says where the
-//! person will be `horizon` seconds later; when that time comes, the prediction is scored
-//! against the sample then taken, beside "the pose stays as it was". Per pose component, the
-//! forecast given out is the mix of the two that would have erred least on the recent scores
-//! (the optimal weight of two correlated predictors, from forgetting sums of their squared
-//! and joint errors), so a trend the track's own data do not support is shrunk towards
-//! holding still, and a reliable one is kept.
+//! Whether a trend is worth continuing, and for how long, depends on the person and on the
+//! detector: a walker's centre moves steadily and a turning person's heading keeps turning,
+//! while a detector's azimuth noise on a person standing still makes any fitted trend a guess.
+//! Each time the forecaster takes a sample, three predictions for each of [`HORIZONS`] are kept:
+//! holding still, the forecaster's damped trend and the same fit continued without damping.
+//! When their time comes, each is scored against the sample then taken. Per pose component and
+//! horizon (the checked one nearest to the one asked for), the forecast given out is the mix of
+//! the three that would have erred least on the recent scores (the minimum-variance convex weights of correlated predictors, from
+//! forgetting sums of their products of errors): a trend the track's own data do not support
+//! is shrunk towards holding still, a steady one is continued in full.
 
 use crate::Pose;
 
@@ -17,108 +18,204 @@ const MEMORY: f64 = 2.0;
 /// Predictions scored before the mix is trusted; until then the forecast holds still (a trend
 /// the track has not yet seen come true is not given out).
 const MIN_SCORED: f64 = 3.0;
+/// The candidates: hold still, damped trend, plain trend.
+pub const CANDIDATES: usize = 3;
+/// The horizons (s) checked: the thesis' 0.4, 1 and 2 s.
+pub const HORIZONS: [f64; 3] = [0.4, 1.0, 2.0];
+const H: usize = HORIZONS.len();
+const HOLD_ONLY: [f64; CANDIDATES] = [1.0, 0.0, 0.0];
 
 #[derive(Clone, Copy, Debug, Default)]
 struct Prediction {
-    aim: f64,
-    hold: Pose,
-    trend: Pose,
-    pending: bool,
+    made: f64,
+    poses: [[Pose; CANDIDATES]; H],
+    /// Per checked horizon: not yet scored.
+    pending: [bool; H],
 }
 
 /// The predictions awaiting their time and the scores so far; sized at construction.
 #[derive(Clone, Debug)]
 pub struct SelfCheck {
-    horizon: f64,
     half_step: f64,
     ring: Vec<Prediction>,
     next: usize,
-    /// Per component: forgetting sums of e_hold², e_trend², e_hold·e_trend.
-    sums: [[f64; 3]; 5],
-    scored: f64,
-    last_scored: Option<f64>,
+    /// Per checked horizon, per component: forgetting sums of the products of the candidates'
+    /// errors.
+    sums: [[[[f64; CANDIDATES]; CANDIDATES]; 5]; H],
+    scored: [f64; H],
+    last_scored: [Option<f64>; H],
 }
 
 impl SelfCheck {
-    /// Checks at `horizon` seconds on a grid of `rate_hz` (room for one prediction per slot).
-    pub fn new(horizon: f64, rate_hz: f64) -> Self {
-        let slots = (horizon * rate_hz).ceil() as usize + 2;
+    /// Checks on a grid of `rate_hz` (room for one prediction per slot of the longest horizon).
+    pub fn new(rate_hz: f64) -> Self {
+        let slots = (HORIZONS[H - 1] * rate_hz).ceil() as usize + 2;
         Self {
-            horizon,
             half_step: 0.5 / rate_hz,
             ring: vec![Prediction::default(); slots],
             next: 0,
-            sums: [[0.0; 3]; 5],
-            scored: 0.0,
-            last_scored: None,
+            sums: [[[[0.0; CANDIDATES]; CANDIDATES]; 5]; H],
+            scored: [0.0; H],
+            last_scored: [None; H],
         }
     }
 
-    pub fn horizon(&self) -> f64 {
-        self.horizon
-    }
-
-    /// The forecaster took `sample` at grid time `t`, and forecasts `trend` for `t + horizon`:
-    /// the predictions aimed at `t` are scored against `sample`, and this one is kept.
-    pub fn record(&mut self, t: f64, sample: Pose, trend: Pose) {
-        for p in self
-            .ring
-            .iter_mut()
-            .filter(|p| p.pending && p.aim <= t + self.half_step)
-        {
-            p.pending = false;
-            let decay = self
-                .last_scored
-                .map_or(1.0, |last| (-(t - last).max(0.0) / MEMORY).exp());
-            self.last_scored = Some(t);
-            self.scored = self.scored * decay + 1.0;
-            for c in 0..5 {
-                let (eh, et) = (sample[c] - p.hold[c], sample[c] - p.trend[c]);
-                let s = &mut self.sums[c];
-                s[0] = s[0] * decay + eh * eh;
-                s[1] = s[1] * decay + et * et;
-                s[2] = s[2] * decay + eh * et;
+    /// The forecaster took `sample` at grid time `t` and predicts `damped[k]` and `plain[k]` for
+    /// `t + HORIZONS[k]`: the predictions aimed at `t` are scored against `sample`, and these
+    /// kept.
+    pub fn record(&mut self, t: f64, sample: Pose, damped: &[Pose; H], plain: &[Pose; H]) {
+        for p in self.ring.iter_mut() {
+            for k in 0..H {
+                if !(p.pending[k] && p.made + HORIZONS[k] <= t + self.half_step) {
+                    continue;
+                }
+                p.pending[k] = false;
+                let decay =
+                    self.last_scored[k].map_or(1.0, |last| (-(t - last).max(0.0) / MEMORY).exp());
+                self.last_scored[k] = Some(t);
+                self.scored[k] = self.scored[k] * decay + 1.0;
+                for c in 0..5 {
+                    let e = p.poses[k].map(|pose| sample[c] - pose[c]);
+                    let sums = &mut self.sums[k][c];
+                    for a in 0..CANDIDATES {
+                        for b in 0..CANDIDATES {
+                            sums[a][b] = sums[a][b] * decay + e[a] * e[b];
+                        }
+                    }
+                }
             }
         }
         self.ring[self.next] = Prediction {
-            aim: t + self.horizon,
-            hold: sample,
-            trend,
-            pending: true,
+            made: t,
+            poses: std::array::from_fn(|k| [sample, damped[k], plain[k]]),
+            pending: [true; H],
         };
         self.next = (self.next + 1) % self.ring.len();
     }
 
-    /// Per component, the weight of the trend in the mix (0: hold still, 1: the forecaster's).
-    pub fn trend_weights(&self) -> [f64; 5] {
-        if self.scored < MIN_SCORED {
-            return [0.0; 5];
+    /// Per component, the weights of hold, damped trend and plain trend (non-negative, summing
+    /// to one) for a forecast `horizon` seconds ahead: those of the checked horizon nearest to it
+    /// (on a log scale); holding still until that horizon has been scored a few times (a
+    /// shorter horizon's weights would carry a trend further than the track has seen it hold).
+    pub fn weights(&self, horizon: f64) -> [[f64; CANDIDATES]; 5] {
+        let nearest = (0..H)
+            .min_by(|&a, &b| {
+                let da = (horizon.max(1e-3) / HORIZONS[a]).ln().abs();
+                let db = (horizon.max(1e-3) / HORIZONS[b]).ln().abs();
+                da.total_cmp(&db)
+            })
+            .unwrap_or(0);
+        if self.scored[nearest] >= MIN_SCORED {
+            return self.sums[nearest].map(|s| convex_min_variance(&s));
         }
-        self.sums.map(|[hh, tt, ht]| {
-            let spread = hh + tt - 2.0 * ht; // the summed squared difference of the two
-            if spread > 0.0 {
-                ((hh - ht) / spread).clamp(0.0, 1.0)
-            } else {
-                0.5
-            }
-        })
+        // Not yet checked this far: a shorter check's trust in a trend goes to the damped one,
+        // which fades with the horizon, never to the plain one.
+        match (0..nearest).rev().find(|&k| self.scored[k] >= MIN_SCORED) {
+            Some(k) => self.sums[k].map(|s| {
+                let [hold, damped, plain] = convex_min_variance(&s);
+                [hold, damped + plain, 0.0]
+            }),
+            None => [HOLD_ONLY; 5],
+        }
     }
 
     /// Forgets the pending predictions (the history they were made from changed), not the
     /// scores.
     pub fn drop_pending(&mut self) {
         for p in self.ring.iter_mut() {
-            p.pending = false;
+            p.pending = [false; H];
         }
     }
 
     /// Forgets everything (a restarted history).
     pub fn reset(&mut self) {
         self.drop_pending();
-        self.sums = [[0.0; 3]; 5];
-        self.scored = 0.0;
-        self.last_scored = None;
+        self.sums = [[[[0.0; CANDIDATES]; CANDIDATES]; 5]; H];
+        self.scored = [0.0; H];
+        self.last_scored = [None; H];
     }
+}
+
+/// The weights `w ≥ 0`, `Σ w = 1` that minimise `wᵀ S w`: the best of the equality-constrained
+/// minima over every subset of candidates whose weights come out non-negative. Hold wins ties
+/// and degenerate cases.
+fn convex_min_variance(s: &[[f64; CANDIDATES]; CANDIDATES]) -> [f64; CANDIDATES] {
+    let mut best = HOLD_ONLY;
+    let mut best_value = quadratic(s, &best);
+    for i in 1..CANDIDATES {
+        // A single candidate needs no solve (and may have erred not at all).
+        if s[i][i] < best_value {
+            best = [0.0; CANDIDATES];
+            best[i] = 1.0;
+            best_value = s[i][i];
+        }
+    }
+    for subset in 1u32..(1 << CANDIDATES) {
+        if subset.count_ones() < 2 {
+            continue;
+        }
+        let mut idx = [0usize; CANDIDATES];
+        let mut n = 0;
+        for i in (0..CANDIDATES).filter(|i| subset & (1 << i) != 0) {
+            idx[n] = i;
+            n += 1;
+        }
+        if let Some(w) = subset_minimum(s, &idx[..n]) {
+            let value = quadratic(s, &w);
+            if value < best_value - 1e-15 * best_value.abs().max(1e-300) {
+                best = w;
+                best_value = value;
+            }
+        }
+    }
+    best
+}
+
+/// `w = S⁻¹1 / (1ᵀS⁻¹1)` on the candidates `idx` (zero elsewhere), if it is non-negative.
+fn subset_minimum(s: &[[f64; CANDIDATES]; CANDIDATES], idx: &[usize]) -> Option<[f64; CANDIDATES]> {
+    let n = idx.len();
+    let mut a = [[0.0; CANDIDATES + 1]; CANDIDATES];
+    for (r, &i) in idx.iter().enumerate() {
+        for (c, &j) in idx.iter().enumerate() {
+            a[r][c] = s[i][j];
+        }
+        a[r][n] = 1.0;
+    }
+    // Gaussian elimination with partial pivoting on the n x (n + 1) system.
+    for col in 0..n {
+        let pivot = (col..n).max_by(|&x, &y| a[x][col].abs().total_cmp(&a[y][col].abs()))?;
+        if !(a[pivot][col].abs() > 1e-12 * (1.0 + s[idx[col]][idx[col]].abs())) {
+            return None;
+        }
+        a.swap(col, pivot);
+        for r in 0..n {
+            if r != col {
+                let f = a[r][col] / a[col][col];
+                for c in col..=n {
+                    a[r][c] -= f * a[col][c];
+                }
+            }
+        }
+    }
+    let mut x = [0.0; CANDIDATES];
+    for r in 0..n {
+        x[r] = a[r][n] / a[r][r];
+    }
+    let total: f64 = x[..n].iter().sum();
+    if !(total.abs() > 0.0) || x[..n].iter().any(|v| !(v / total >= 0.0)) {
+        return None;
+    }
+    let mut w = [0.0; CANDIDATES];
+    for (r, &i) in idx.iter().enumerate() {
+        w[i] = x[r] / total;
+    }
+    Some(w)
+}
+
+fn quadratic(s: &[[f64; CANDIDATES]; CANDIDATES], w: &[f64; CANDIDATES]) -> f64 {
+    (0..CANDIDATES)
+        .map(|a| (0..CANDIDATES).map(|b| w[a] * s[a][b] * w[b]).sum::<f64>())
+        .sum()
 }
 
 #[cfg(test)]
@@ -127,35 +224,35 @@ mod tests {
 
     #[test]
     fn a_trend_that_comes_true_is_kept_and_one_that_does_not_is_dropped() {
-        // Component 0 moves at 1 m/s and the trend says so; component 3 stands still and the
-        // trend says it moves at 1 rad/s. Hold is wrong for 0, right for 3.
-        let mut check = SelfCheck::new(0.4, 25.0);
-        assert_eq!(check.trend_weights(), [0.0; 5]);
-        for k in 0..100 {
+        // Component 0 moves at 1 m/s: the plain trend says so, the damped one says half of it.
+        // Component 3 stands still while both trends say it moves at 1 rad/s.
+        let mut check = SelfCheck::new(25.0);
+        assert_eq!(check.weights(0.4), [HOLD_ONLY; 5]);
+        for k in 0..150 {
             let t = k as f64 / 25.0;
             let sample = [t, 0.0, 1.0, 0.3, 1.5];
-            let trend = [t + 0.4, 0.0, 1.0, 0.3 + 0.4, 1.5];
-            check.record(t, sample, trend);
+            let damped = HORIZONS.map(|h| [t + 0.5 * h, 0.0, 1.0, 0.3 + 0.5 * h, 1.5]);
+            let plain = HORIZONS.map(|h| [t + h, 0.0, 1.0, 0.3 + h, 1.5]);
+            check.record(t, sample, &damped, &plain);
         }
-        let w = check.trend_weights();
-        assert!((w[0] - 1.0).abs() < 1e-12 && w[3].abs() < 1e-12);
-        assert_eq!(w[1], 0.5); // both exact: no evidence either way
+        for h in [0.1, 0.4, 0.8, 1.5, 3.0] {
+            let w = check.weights(h);
+            assert!((w[0][2] - 1.0).abs() < 1e-12, "{h}: {:?}", w[0]);
+            assert!((w[3][0] - 1.0).abs() < 1e-12, "{h}: {:?}", w[3]);
+            assert_eq!(w[1], HOLD_ONLY); // all exact: no evidence for a trend
+        }
     }
 
     #[test]
-    fn two_equally_noisy_independent_predictions_are_mixed_half_and_half() {
-        // The truth is 0; hold and trend err by independent ±1 patterns of equal power.
-        let mut check = SelfCheck::new(0.04, 25.0);
-        for k in 0..400 {
-            let t = k as f64 / 25.0;
-            let eh = if k % 2 == 0 { 1.0 } else { -1.0 };
-            let et = if k % 4 < 2 { 1.0 } else { -1.0 };
-            check.record(t, [0.0; 5], [-et; 5]);
-            // The prediction stored now is scored at the next sample; make its hold err by eh.
-            let last = (check.next + check.ring.len() - 1) % check.ring.len();
-            check.ring[last].hold = [-eh; 5];
-        }
-        let w = check.trend_weights();
-        assert!((w[0] - 0.5).abs() < 0.05, "{w:?}");
+    fn the_convex_minimum_matches_closed_forms() {
+        // Two independent predictors of variances 1 and 3: weights 3/4 and 1/4.
+        let s = [[1.0, 0.0, 0.0], [0.0, 3.0, 0.0], [0.0, 0.0, 1e9]];
+        let w = convex_min_variance(&s);
+        assert!((w[0] - 0.75).abs() < 1e-9 && (w[1] - 0.25).abs() < 1e-9 && w[2].abs() < 1e-9);
+        // A predictor whose error is always larger and positively correlated gets no weight.
+        let s = [[1.0, 1.5, 0.0], [1.5, 4.0, 0.0], [0.0, 0.0, 9.0]];
+        let w = convex_min_variance(&s);
+        assert!(w.iter().all(|&v| v >= 0.0) && (w.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+        assert!(w[1].abs() < 1e-12, "{w:?}");
     }
 }

@@ -13,7 +13,7 @@ use torso_core::sides::FacingConfig;
 use torso_core::{Estimate, GateConfig, JointStatus, PersonConfig, Pose};
 
 /// Person(forecaster=None, *, gate_threshold=None, gate_max_replacements=None, min_score=None,
-/// facing_memory=None, face_weight=None, motion_weight=None, check_horizon=None,
+/// facing_memory=None, face_weight=None, motion_weight=None, self_check=None,
 /// occlusion_ratio=None): a parameter
 /// left out takes the core's default (`PersonConfig::default()`, listed by `parameters`).
 #[pyclass(module = "torsocast._core")]
@@ -39,7 +39,7 @@ impl Person {
     #[new]
     #[pyo3(signature = (
         forecaster=None, *, gate_threshold=None, gate_max_replacements=None, min_score=None,
-        facing_memory=None, face_weight=None, motion_weight=None, check_horizon=None,
+        facing_memory=None, face_weight=None, motion_weight=None, self_check=None,
         occlusion_ratio=None
     ))]
     #[allow(clippy::too_many_arguments)]
@@ -51,7 +51,7 @@ impl Person {
         facing_memory: Option<f64>,
         face_weight: Option<f64>,
         motion_weight: Option<f64>,
-        check_horizon: Option<f64>,
+        self_check: Option<bool>,
         occlusion_ratio: Option<f64>,
     ) -> PyResult<Self> {
         // The defaults live in the core only, so that Python and Rust users get the same track.
@@ -69,7 +69,7 @@ impl Person {
                 face_weight: face_weight.unwrap_or(d.facing.face_weight),
                 motion_weight: motion_weight.unwrap_or(d.facing.motion_weight),
             },
-            check_horizon: check_horizon.unwrap_or(d.check_horizon),
+            self_check: self_check.unwrap_or(d.self_check),
             occlusion_ratio: occlusion_ratio.unwrap_or(d.occlusion_ratio),
         };
         Ok(Self {
@@ -90,7 +90,7 @@ impl Person {
         dict.set_item("facing_memory", c.facing.memory)?;
         dict.set_item("face_weight", c.facing.face_weight)?;
         dict.set_item("motion_weight", c.facing.motion_weight)?;
-        dict.set_item("check_horizon", c.check_horizon)?;
+        dict.set_item("self_check", c.self_check)?;
         dict.set_item("occlusion_ratio", c.occlusion_ratio)?;
         Ok(dict)
     }
