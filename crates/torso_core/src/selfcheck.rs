@@ -15,9 +15,19 @@ use crate::Pose;
 
 /// Time constant (s) with which old scores are forgotten.
 const MEMORY: f64 = 2.0;
-/// Predictions scored before the mix is trusted; until then the forecast holds still (a trend
-/// the track has not yet seen come true is not given out).
+/// Predictions scored before the mix is trusted.
 const MIN_SCORED: f64 = 3.0;
+/// The mix before a track has checked anything: the centre continues its damped trend (bodies
+/// move with inertia: over all motions of the benchmark's development split the damped centre
+/// trend beats holding still, though not for people jumping on the spot), the angles hold
+/// still (a detector's azimuth and elevation noise makes a young track's angular trend a guess).
+const UNCHECKED: [[f64; CANDIDATES]; 5] = [
+    [0.0, 1.0, 0.0],
+    [0.0, 1.0, 0.0],
+    [0.0, 1.0, 0.0],
+    [1.0, 0.0, 0.0],
+    [1.0, 0.0, 0.0],
+];
 /// The candidates: hold still, damped trend, plain trend.
 pub const CANDIDATES: usize = 3;
 /// The horizons (s) checked: the thesis' 0.4, 1 and 2 s.
@@ -95,8 +105,9 @@ impl SelfCheck {
 
     /// Per component, the weights of hold, damped trend and plain trend (non-negative, summing
     /// to one) for a forecast `horizon` seconds ahead: those of the checked horizon nearest to it
-    /// (on a log scale); holding still until that horizon has been scored a few times (a
-    /// shorter horizon's weights would carry a trend further than the track has seen it hold).
+    /// (on a log scale), once it has been scored a few times. Before that, a shorter horizon's
+    /// (with the angles' trust in a trend moved to the damped trend), and before any check
+    /// [`UNCHECKED`].
     pub fn weights(&self, horizon: f64) -> [[f64; CANDIDATES]; 5] {
         let nearest = (0..H)
             .min_by(|&a, &b| {
@@ -108,14 +119,19 @@ impl SelfCheck {
         if self.scored[nearest] >= MIN_SCORED {
             return self.sums[nearest].map(|s| convex_min_variance(&s));
         }
-        // Not yet checked this far: a shorter check's trust in a trend goes to the damped one,
-        // which fades with the horizon, never to the plain one.
+        // Not yet checked this far: a shorter check's weights serve; for the angles, its trust
+        // in a trend goes to the damped one, which fades with the horizon (a turn does not go on
+        // for ever; a walk mostly does).
         match (0..nearest).rev().find(|&k| self.scored[k] >= MIN_SCORED) {
-            Some(k) => self.sums[k].map(|s| {
-                let [hold, damped, plain] = convex_min_variance(&s);
-                [hold, damped + plain, 0.0]
+            Some(k) => std::array::from_fn(|c| {
+                let [hold, damped, plain] = convex_min_variance(&self.sums[k][c]);
+                if c < 3 {
+                    [hold, damped, plain]
+                } else {
+                    [hold, damped + plain, 0.0]
+                }
             }),
-            None => [HOLD_ONLY; 5],
+            None => UNCHECKED,
         }
     }
 
@@ -227,7 +243,7 @@ mod tests {
         // Component 0 moves at 1 m/s: the plain trend says so, the damped one says half of it.
         // Component 3 stands still while both trends say it moves at 1 rad/s.
         let mut check = SelfCheck::new(25.0);
-        assert_eq!(check.weights(0.4), [HOLD_ONLY; 5]);
+        assert_eq!(check.weights(0.4), UNCHECKED);
         for k in 0..150 {
             let t = k as f64 / 25.0;
             let sample = [t, 0.0, 1.0, 0.3, 1.5];

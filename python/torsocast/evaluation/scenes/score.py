@@ -122,6 +122,8 @@ class Scorer:
                 pass
         for actor in np.flatnonzero(visible):
             actor = int(actor)
+            if not np.isfinite(truth[actor]).all():
+                continue  # no true pose to score against (never for oriented mocap planes)
             d = by_actor.get(actor)
             person = result.people[d] if d is not None and d < len(result.people) else None
             pose = person.observation.pose if person and person.observation else None
