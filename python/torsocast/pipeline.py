@@ -3,6 +3,7 @@ forecaster per person, with the time each stage takes."""
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from collections import defaultdict
 from collections.abc import Sequence
@@ -45,6 +46,10 @@ class Pipeline:
     def __post_init__(self) -> None:
         if any(not (np.isfinite(h) and h > 0) for h in self.horizons):
             raise ValueError(f"horizons must be positive seconds, got {list(self.horizons)}")
+        if getattr(self.model, "faces_on_backs", False):
+            # The nose is no evidence of the chest's side for a model that sees faces on backs.
+            track = dataclasses.replace(self.tracker_config.track, face_weight=0.0)
+            self.tracker_config = dataclasses.replace(self.tracker_config, track=track)
         self.tracker = Tracker(self.tracker_config)
 
     def __call__(self, frame: Frame) -> FrameResult:

