@@ -76,6 +76,10 @@ def test_run_writes_json_lines_and_overlays(tmp_path, capsys):
     last = lines[-1]["people"][0]
     assert last["id"] == 1 and last["estimate"] in ("plane", "shoulders")
     assert [f["horizon"] for f in last["forecast"]] == [0.4, 1.0]
+    # Intervals come once the track has checked its forecasts: 80 % half-widths, per component
+    # (the elevation's is 0 here: the hips are out of view and the shoulders hold it).
+    for f in last["forecast"]:
+        assert len(f["half_width80"]) == 5 and min(f["half_width80"]) >= 0 and f["half_width80"][3] > 0
     azimuths = np.unwrap(
         [line["people"][0]["azimuth"] for line in lines if line["people"][0]["azimuth"] is not None]
     )

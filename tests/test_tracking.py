@@ -221,3 +221,25 @@ def test_track_config_defaults_are_the_cores():
     python = {f.name: getattr(TrackConfig(), f.name) for f in fields(TrackConfig) if f.name != "forecaster"}
     assert python == tc.Person().parameters
     assert tc.Person(occlusion_ratio=0.0, gate_max_replacements=3).parameters["gate_max_replacements"] == 3
+
+
+def test_a_walkers_track_checks_its_forecasts_and_gives_intervals():
+    # Walking along +y at 1 m/s facing +y, with a little keypoint noise: the centre trend comes
+    # true, so after its checks the track continues it, with finite 80 % half-widths.
+    rng = np.random.default_rng(3)
+    track = Track(1)
+    assert track.intervals([0.4]) is None
+    for k in range(100):
+        t = k / 25
+        joints, scores = person([3.0, 1.0 * t, 1.0], np.pi / 2)
+        track.update(t, joints + rng.normal(0.0, 0.005, joints.shape), scores, CAMERA)
+        if k == 5:
+            assert track.intervals([0.4]) is None  # nothing checked yet
+    ahead = track.forecast([1.0])
+    # More of the walk than the damped trend alone carries (1.5 (1 - e^(-1/1.5)) = 0.73 m).
+    assert 0.75 < ahead[0, 1] - 99 / 25 < 1.1
+    half = track.intervals([0.4, 1.0, 2.0])
+    assert half.shape == (3, 5) and np.isfinite(half).all() and (half > 0).all()
+    assert half[0, 1] < 0.3  # the walking direction's error at 0.4 s stays within decimetres
+    with pytest.raises(tc.InvalidArgumentError, match="horizons"):
+        track.person.intervals([-1.0])

@@ -59,10 +59,18 @@ def record(result: FrameResult, horizons: Sequence[float]) -> dict[str, Any]:
                     grid=obs.grid,
                 )
             ahead = result.forecasts.get(i)
+            spread = result.intervals.get(i)
             person["forecast"] = (
                 None
                 if ahead is None
-                else [{"horizon": h, "pose": _clean(pose)} for h, pose in zip(horizons, ahead)]
+                else [
+                    {
+                        "horizon": h,
+                        "pose": _clean(ahead[k]),
+                        "half_width80": None if spread is None else _clean(spread[k]),
+                    }
+                    for k, h in enumerate(horizons)
+                ]
             )
         people.append(person)
     return {

@@ -31,6 +31,9 @@ class FrameResult:
     people: list[Result]
     forecasts: dict[int, F64]
     """Detection index -> ``(horizons, 5)`` forecast of its confirmed track."""
+    intervals: dict[int, F64] = field(default_factory=dict)
+    """Detection index -> ``(horizons, 5)`` half-widths of the 80 % intervals around its
+    forecast, once the track has checked its forecasts."""
 
 
 @dataclass
@@ -79,15 +82,18 @@ class Pipeline:
         position = np.asarray(frame.camera.camera_to_world)[:3, 3]
         people = self.tracker.update(frame.time, joints, detections.keypoints[..., 2], position)
         clock = self._lap("tracking", clock)
-        forecasts = {}
+        forecasts, intervals = {}, {}
         for person in people:
             if person.track_id is not None and person.track is not None:
                 ahead = person.track.forecast(list(self.horizons))
                 if ahead is not None:
                     forecasts[person.detection] = ahead
+                    spread = person.track.intervals(list(self.horizons))
+                    if spread is not None:
+                        intervals[person.detection] = spread
         self._lap("forecasting", clock)
         self.frames += 1
-        return FrameResult(frame, detections, joints, people, forecasts)
+        return FrameResult(frame, detections, joints, people, forecasts, intervals)
 
     def _lap(self, stage: str, since: float) -> float:
         now = time.perf_counter()

@@ -89,6 +89,12 @@ class Track:
         the history holds enough samples."""
         return self.person.forecast(horizons) if horizons else None
 
+    def intervals(self, horizons: list[float]) -> F64 | None:
+        """``(len(horizons), 5)`` half-widths of the central 80 % intervals around
+        :meth:`forecast`'s poses (the spread of the track's own recent forecast errors); None
+        until the track has checked a forecast."""
+        return self.person.intervals(horizons) if horizons else None
+
     @property
     def last_time(self) -> float | None:
         """Grid time of the forecaster's newest sample: forecasts count from here."""

@@ -10,7 +10,7 @@
 
 use crate::coco::{self, Joints, N_JOINTS, TORSO, TORSO_SIDES};
 use crate::error::{Error, Result};
-use crate::selfcheck::{SelfCheck, HORIZONS as CHECK_HORIZONS};
+use crate::selfcheck::{SelfCheck, HORIZONS as CHECK_HORIZONS, INTERVAL_80};
 use crate::sides::{nose_direction, Decision, Facing, FacingConfig};
 use crate::{
     fit_torso_plane, shoulder_heading, Forecaster, ForecasterConfig, GateConfig, JointGate,
@@ -358,6 +358,38 @@ impl Person {
         }
         for pose in out.iter_mut() {
             pose[AZIMUTH] = wrap_angle(pose[AZIMUTH]);
+        }
+        Ok(true)
+    }
+
+    /// Half-widths of the central 80 % intervals around [`forecast`](Self::forecast)'s poses at
+    /// `horizons`, per component, into `out`: the spread of the track's own recent forecast
+    /// errors ([`crate::selfcheck`]). `Ok(false)` (and `out` untouched) until the track has
+    /// checked a forecast, or without the self-check.
+    pub fn intervals(&self, horizons: &[f64], out: &mut [Pose]) -> Result<bool> {
+        if out.len() != horizons.len() {
+            return Err(Error::LengthMismatch {
+                name: "out",
+                expected: horizons.len(),
+                got: out.len(),
+            });
+        }
+        if let Some(&value) = horizons.iter().find(|h| !(h.is_finite() && **h >= 0.0)) {
+            return Err(Error::InvalidArgument {
+                name: "horizons",
+                expected: "finite, non-negative horizons in seconds",
+                value,
+            });
+        }
+        let Some(check) = &self.check else {
+            return Ok(false);
+        };
+        if horizons.iter().any(|&h| check.spread(h).is_none()) {
+            return Ok(false);
+        }
+        for (h, o) in horizons.iter().zip(out.iter_mut()) {
+            let spread = check.spread(*h).expect("checked above");
+            *o = spread.map(|v| INTERVAL_80 * v);
         }
         Ok(true)
     }

@@ -142,6 +142,25 @@ impl Person {
         }
     }
 
+    /// intervals(horizons) -> array (len(horizons), 5) of the half-widths of the central 80 %
+    /// intervals around forecast(horizons), or None before the track has checked a forecast
+    fn intervals<'py>(
+        &mut self,
+        py: Python<'py>,
+        horizons: Vec<f64>,
+    ) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
+        self.scratch.resize(horizons.len(), [0.0; 5]);
+        if self
+            .inner
+            .intervals(&horizons, &mut self.scratch)
+            .map_err(to_py)?
+        {
+            Ok(Some(matrix(py, &self.scratch)?))
+        } else {
+            Ok(None)
+        }
+    }
+
     /// Samples in the forecaster's history.
     fn __len__(&self) -> usize {
         self.inner.forecaster().len()

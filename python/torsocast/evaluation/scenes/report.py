@@ -196,6 +196,24 @@ def markdown(bench: Benchmark, t: dict[str, Any], figures: list[str]) -> str:
                 "",
             ]
             lines += _forecast_by_md(t["forecasts"][axis], axis, component)
+    lines += ["", "## Forecast intervals", ""]
+    lines.append(
+        "Share of forecasts whose true pose fell inside the 80 % interval the track gave with it "
+        "(`half_width80`: the spread of the track's own recent forecast errors); the centre is the "
+        "mean over its x, y and z intervals. A calibrated interval covers 80 %; given: the share of "
+        "forecasts that came with one (a track gives none before it has checked a forecast)."
+    )
+    for axis in ("all", "category", "view"):
+        lines += ["", f"### {AXIS_NAMES[axis].capitalize()}" if axis != "all" else "### All", ""]
+        lines += [
+            f"| {AXIS_NAMES[axis]} | horizon | given | centre | azimuth | elevation |",
+            "|---|---|---:|---:|---:|---:|",
+        ]
+        for r in t["coverage"][axis]:
+            lines.append(
+                f"| {r['group']} | {_h(r['horizon'])} | {_pct(r['with_interval'])} | {_pct(r['centre'])} "
+                f"| {_pct(r['azimuth'])} | {_pct(r['elevation'])} |"
+            )
     lines += [
         "",
         "## Tracking",

@@ -27,6 +27,8 @@ MIN_VOTES = 3
 #: pose still: what a perfect recovery followed by "the person stays where they are" would give.
 METHODS = ("forecast", "hold", "velocity", "truth")
 COMPONENTS = ("centre", "azimuth", "elevation")
+#: The pose's components, each with its own 80 % interval.
+AXES = ("x", "y", "z", "azimuth", "elevation")
 #: Seconds a person must stay in view after their track ends for the track to count as lost.
 LOST_AFTER = 1.0
 
@@ -137,9 +139,10 @@ class Scorer:
             track_id = person.track_id if person is not None else None
             self.seen_ids[actor].append((t, track_id))
             if pose is not None and person is not None and d in result.forecasts and person.track is not None:
-                self._forecasts(actor, t, pose, result.forecasts[d], person.track)
+                spread = result.intervals.get(d)
+                self._forecasts(actor, t, pose, result.forecasts[d], spread, person.track)
 
-    def _forecasts(self, actor: int, t: float, pose: F64, ahead: F64, track) -> None:  # type: ignore[no-untyped-def]
+    def _forecasts(self, actor: int, t: float, pose: F64, ahead: F64, spread: F64 | None, track) -> None:  # type: ignore[no-untyped-def]
         origin = track.last_time
         velocity = self.velocity.get(id(track))
         cv = None
@@ -156,6 +159,11 @@ class Scorer:
             for method, guess in zip(METHODS, (predicted, pose, cv[k], now)):
                 for component, e in zip(COMPONENTS, pose_errors(guess, then)):
                     f[f"{method}_{component}"].append(e)
+            miss = np.abs(predicted - then)
+            miss[3] = abs(float(wrap_angle(miss[3])))
+            for axis, m, half in zip(AXES, miss, spread[k] if spread is not None else [np.nan] * 5):
+                f[f"miss_{axis}"].append(float(m))
+                f[f"half_width_{axis}"].append(float(half))
 
     def finish(self) -> SceneScore:
         """Identity switches and lost tracks of every person, once the scene is over."""

@@ -112,6 +112,30 @@ def forecast_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
     return rows
 
 
+def coverage_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
+    """Per group and horizon: the share of forecasts whose truth fell inside their 80 %
+    interval, per component (the centre: the mean over x, y and z), among forecasts that had one."""
+    rows = []
+    if not cols or "half_width_x" not in cols:
+        return rows
+
+    def covered(a: str, m: np.ndarray) -> float:
+        return float((cols[f"miss_{a}"][m] <= cols[f"half_width_{a}"][m]).mean())
+
+    for label, mask in groups(cols, axis):
+        for h in sorted(set(cols["horizon"].tolist())):
+            m = mask & (cols["horizon"] == h) & np.isfinite(cols["half_width_x"])
+            if not m.any():
+                continue
+            row: dict[str, Any] = {"group": label, "horizon": h, "intervals": int(m.sum())}
+            row["centre"] = float(np.mean([covered(a, m) for a in "xyz"]))
+            row["azimuth"] = covered("azimuth", m)
+            row["elevation"] = covered("elevation", m)
+            row["with_interval"] = float(m.sum() / max((mask & (cols["horizon"] == h)).sum(), 1))
+            rows.append(row)
+    return rows
+
+
 def identity_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
     """Per group: people, the tracks they were given, identity switches and lost tracks."""
     rows = []
@@ -167,4 +191,5 @@ def tables(recovery: Columns, forecasts: Columns, identity: Columns) -> dict[str
         "recovery": {str(a or "all"): recovery_table(recovery, a) for a in axes},
         "forecasts": {str(a or "all"): forecast_table(forecasts, a) for a in axes},
         "identity": {str(a or "all"): identity_table(identity, a) for a in (None, "people", "category")},
+        "coverage": {str(a or "all"): coverage_table(forecasts, a) for a in (None, "category", "view")},
     }
