@@ -182,3 +182,18 @@ def test_config_round_trips_through_the_forecaster():
         3,
         "causal",
     )
+
+
+def test_forecast_batch_reads_any_memory_layout_as_its_shape_says():
+    # A Fortran-ordered array (any transposed view) is contiguous in the other order: it was
+    # read as it lay in memory, giving wrong forecasts.
+    rng = np.random.default_rng(5)
+    histories = rng.normal(size=(4, 50, 5)).cumsum(axis=1)
+    expected = tc.forecast_batch(histories, [0.4, 1.0])
+    for layout in (np.asfortranarray(histories), histories.transpose(2, 1, 0).copy().transpose(2, 1, 0)):
+        assert not layout.flags.c_contiguous
+        assert np.array_equal(tc.forecast_batch(layout, [0.4, 1.0]), expected)
+    assert np.array_equal(
+        tc.forecast_batch(histories[:, ::2][:, :25], [0.4]),
+        tc.forecast_batch(np.ascontiguousarray(histories[:, ::2][:, :25]), [0.4]),
+    )

@@ -6,15 +6,23 @@ use crate::errors::shape_error;
 use numpy::ndarray::{ArrayView, Dimension};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
+use std::borrow::Cow;
 
 /// Two arrays returned together, as a Python tuple.
 pub type ArrayPair<'py, A, B> = PyResult<(Bound<'py, A>, Bound<'py, B>)>;
 
-/// The array's elements in C order, borrowed when contiguous, copied otherwise.
+/// The array's elements in C (row-major) order, copied (small arrays: joints, scores).
 pub fn contiguous<D: Dimension>(view: ArrayView<'_, f64, D>) -> Vec<f64> {
+    c_order(&view).into_owned()
+}
+
+/// The array's elements in C (row-major) order: borrowed when the array is laid out so, copied
+/// otherwise. A Fortran-ordered or transposed array is contiguous too, but in the other order,
+/// so its memory is never read as it lies.
+pub fn c_order<'a, D: Dimension>(view: &'a ArrayView<'_, f64, D>) -> Cow<'a, [f64]> {
     match view.as_slice() {
-        Some(s) => s.to_vec(),
-        None => view.iter().copied().collect(),
+        Some(s) => Cow::Borrowed(s),
+        None => Cow::Owned(view.iter().copied().collect()),
     }
 }
 

@@ -1,6 +1,6 @@
 //! Forecaster, its configuration and the batch call.
 
-use crate::arrays::{contiguous, matrix, ArrayPair};
+use crate::arrays::{c_order, matrix, ArrayPair};
 use crate::errors::{shape_error, to_py, unknown_option};
 use numpy::{
     AllowTypeChange, PyArray1, PyArray2, PyArray3, PyArrayLike3, PyArrayMethods,
@@ -376,14 +376,9 @@ pub fn forecast_batch<'py>(
     if shape[2] != 5 || shape[1] == 0 {
         return Err(shape_error("histories", "(n, T, 5) with T >= 1", &shape));
     }
-    let copied;
-    let flat: &[f64] = match histories.as_slice() {
-        Ok(s) => s,
-        Err(_) => {
-            copied = contiguous(histories.as_array());
-            &copied
-        }
-    };
+    let view = histories.as_array();
+    let flat = c_order(&view);
+    let flat: &[f64] = &flat;
     let config = config_or_default(config);
     let h = horizons.len();
     let window_len = shape[1];
