@@ -55,3 +55,21 @@ def test_gate_rejects_bad_shapes_without_changing_state():
     assert list(codes) == [tc.JointStatus.MEASURED] * 2
     with pytest.raises(tc.InvalidArgumentError, match="threshold"):
         tc.JointGate(3, threshold=0.0)
+
+
+def test_a_joint_count_beyond_any_skeleton_is_refused_not_allocated():
+    # 10**12 joints ended the interpreter (allocation failure, SIGABRT).
+    with pytest.raises(tc.InvalidArgumentError, match="n_joints"):
+        tc.JointGate(10**12)
+    with pytest.raises(tc.InvalidArgumentError, match="n_joints"):
+        tc.JointGate(1025)
+    assert tc.JointGate(1024).n_joints == 1024
+
+
+def test_a_cut_off_too_low_to_design_is_refused_instead_of_forecasting_nan():
+    with pytest.raises(tc.InvalidArgumentError, match="cutoff_hz"):
+        tc.Forecaster(tc.ForecasterConfig(cutoff_hz=1e-9))
+    f = tc.Forecaster(tc.ForecasterConfig(cutoff_hz=25.0 * 1e-5))
+    for k in range(50):
+        f.update([0.04 * k, 0.0, 1.0, 0.1, 1.5], k / 25, 1.0)
+    assert np.isfinite(f.forecast([0.4, 2.0])).all()

@@ -24,6 +24,9 @@ pub struct SosFilter {
     zi: Vec<[f64; 2]>,
 }
 
+/// Lowest cut-off frequency, as a fraction of the sample rate.
+pub const MIN_CUTOFF_PER_RATE: f64 = 1e-5;
+
 /// Designs an `order`-th order Butterworth low-pass with cut-off `cutoff_hz` for samples at
 /// `rate_hz`.
 pub fn design_lowpass(order: usize, cutoff_hz: f64, rate_hz: f64) -> Result<SosFilter> {
@@ -35,11 +38,16 @@ pub fn design_lowpass(order: usize, cutoff_hz: f64, rate_hz: f64) -> Result<SosF
             value: order as f64,
         });
     }
-    if !(cutoff_hz.is_finite() && cutoff_hz > 0.0 && cutoff_hz < 0.5 * rate_hz) {
+    // Below a hundred-thousandth of the rate (the longest history's resolution) the design's
+    // poles sit on 1 to rounding and its steady state divides by zero.
+    if !(cutoff_hz.is_finite()
+        && cutoff_hz >= MIN_CUTOFF_PER_RATE * rate_hz
+        && cutoff_hz < 0.5 * rate_hz)
+    {
         return Err(Error::InvalidArgument {
             name: "cutoff_hz",
-            expected:
-                "a cut-off frequency strictly between 0 and the Nyquist frequency rate_hz / 2",
+            expected: "a cut-off frequency from rate_hz / 100000 up to (not including) the \
+                       Nyquist frequency rate_hz / 2",
             value: cutoff_hz,
         });
     }

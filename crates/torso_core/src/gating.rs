@@ -38,6 +38,10 @@ pub enum JointStatus {
     Lost = 2,
 }
 
+/// Most joints a gate takes (skeletons have tens): a size from a caller is bounded before it is
+/// allocated.
+pub const MAX_JOINTS: usize = 1024;
+
 /// Gating state for one person's joints; all buffers are sized at construction.
 #[derive(Clone, Debug)]
 pub struct JointGate {
@@ -53,11 +57,11 @@ impl JointGate {
             config.threshold,
             "a positive, finite distance in metres",
         )?;
-        if n_joints == 0 {
+        if !(1..=MAX_JOINTS).contains(&n_joints) {
             return Err(Error::InvalidArgument {
                 name: "n_joints",
-                expected: "at least one joint",
-                value: 0.0,
+                expected: "from 1 to MAX_JOINTS (1024) joints",
+                value: n_joints as f64,
             });
         }
         Ok(Self {
