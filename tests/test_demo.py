@@ -141,7 +141,7 @@ def test_run_leaves_out_a_frame_that_repeats_a_time_stamp(walk, tmp_path, capsys
 
     summary = run(Replay(), open_model(None), tmp_path, progress=False)
     assert summary.frames == len(frames) and summary.rejected == 1
-    assert "1 rejected" in str(summary) and "frame 9 left out" in capsys.readouterr().err
+    assert "1 left out" in str(summary) and "frame 9 left out" in capsys.readouterr().err
     times = [json.loads(line)["time"] for line in (tmp_path / "frames.jsonl").read_text().splitlines()]
     assert times == [f.time for f in frames]
 
@@ -198,3 +198,47 @@ def test_the_top_down_plot_draws_a_walk_along_its_world_axis(axis):
     width, height = np.ptp(cols), np.ptp(rows)
     # 3 m of walk across the plot's (3 + 2 * 0.7) m: about 130 of 200 pixels along its axis.
     assert (width, height)[axis] > 120 and (width, height)[1 - axis] < 40
+
+
+def test_a_frame_whose_model_scores_are_not_probabilities_is_left_out(walk, tmp_path, capsys):
+    from torsocast.keypoints import open_model
+    from torsocast.pipeline import BadFrameError, Pipeline
+    from torsocast.run import run
+
+    movenet = open_model()
+
+    class Broken:
+        """The bundled model, with keypoint scores of 169 in its fifth frame (as an ONNX file of
+        another kind of model gives)."""
+
+        family, input_size, faces_on_backs, calls = "movenet", 192, True, 0
+
+        def __call__(self, image):
+            found = movenet(image)
+            self.calls += 1
+            if self.calls == 5:
+                found.keypoints[..., 2] = 169.0
+            return found
+
+    frames = list(MocapScene(walk, fps=10.0))[:10]
+
+    class Replay:
+        name = "replay"
+
+        def __len__(self):
+            return len(frames)
+
+        def __iter__(self):
+            return iter(frames)
+
+    summary = run(Replay(), Broken(), tmp_path, progress=False)
+    assert summary.frames == 9 and summary.rejected == 1
+    assert "scores outside 0..1" in capsys.readouterr().err
+    pipeline = Pipeline(Broken())
+    for frame in frames[:4]:
+        pipeline(frame)
+    last = pipeline.last_time
+    with pytest.raises(BadFrameError):
+        pipeline(frames[4])
+    assert pipeline.last_time == last  # refused: nothing changed, the frame's time is still free
+    pipeline(frames[4])

@@ -22,6 +22,10 @@ from .tracker import Result, Tracker, TrackerConfig
 STAGES = ("model", "lifting", "tracking", "forecasting")
 
 
+class BadFrameError(ValueError):
+    """A frame the pipeline cannot use (its model output is not keypoints); nothing changed."""
+
+
 @dataclass
 class FrameResult:
     frame: Frame
@@ -57,15 +61,21 @@ class Pipeline:
 
     def __call__(self, frame: Frame) -> FrameResult:
         """One frame through every stage. A frame whose time stamp is not after the previous
-        frame's raises :class:`~torsocast.TimeNotIncreasingError` before the model runs and
-        changes nothing."""
+        frame's raises :class:`~torsocast.TimeNotIncreasingError` before the model runs, and one
+        whose model output is unusable raises :class:`BadFrameError`; either changes nothing."""
         if self.last_time is not None and not frame.time > self.last_time:
             raise TimeNotIncreasingError(
                 f"frame {frame.index} at {frame.time} s is not after the previous frame's {self.last_time} s"
             )
-        self.last_time = frame.time
         clock = time.perf_counter()
         detections = self.model(frame.color)
+        scores = detections.keypoints[..., 2]
+        if ((scores < 0) | (scores > 1)).any():
+            raise BadFrameError(
+                f"frame {frame.index}: the keypoint model gave scores outside 0..1 "
+                f"(from {np.nanmin(scores):g} to {np.nanmax(scores):g}); is it a keypoint model?"
+            )
+        self.last_time = frame.time
         clock = self._lap("model", clock)
         if frame.depth is None or frame.camera is None:
             self.frames += 1

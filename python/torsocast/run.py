@@ -15,7 +15,7 @@ from .avi import AviWriter
 from .keypoints import KeypointModel
 from .output import JsonLines
 from .overlay import draw
-from .pipeline import FrameResult, Pipeline
+from .pipeline import BadFrameError, FrameResult, Pipeline
 from .progress import Progress
 from .sources import Source
 
@@ -29,7 +29,7 @@ class Summary:
     """Distinct confirmed track ids."""
     out: Path
     rejected: int = 0
-    """Frames refused because their time stamp did not increase."""
+    """Frames left out: their time stamp did not increase, or the model's output was unusable."""
 
     @property
     def fps(self) -> float:
@@ -37,7 +37,11 @@ class Summary:
 
     def __str__(self) -> str:
         stages = ", ".join(f"{k} {v:.2f} ms" for k, v in self.stages_ms.items())
-        rejected = f" ({self.rejected} rejected: time stamp not increasing)" if self.rejected else ""
+        rejected = (
+            f" ({self.rejected} left out: time stamp not increasing or model output unusable)"
+            if self.rejected
+            else ""
+        )
         return (
             f"{self.frames} frames{rejected} in {self.seconds:.1f} s ({self.fps:.1f} frames/s), "
             f"{self.people} tracked people; per frame: {stages}"
@@ -72,7 +76,7 @@ def run(
         for frame in source:
             try:
                 result = pipeline(frame)
-            except TimeNotIncreasingError as e:
+            except (TimeNotIncreasingError, BadFrameError) as e:
                 if not rejected:
                     print(f"frame {frame.index} left out: {e}", file=sys.stderr)
                 rejected += 1

@@ -88,10 +88,10 @@ impl PersonConfig {
     pub fn validate(&self) -> Result<()> {
         self.forecaster.validate()?;
         JointGate::new(N_JOINTS, self.gate)?;
-        if !self.min_score.is_finite() {
+        if !(0.0..=1.0).contains(&self.min_score) {
             return Err(Error::InvalidArgument {
                 name: "min_score",
-                expected: "a finite keypoint score",
+                expected: "a keypoint score from 0 to 1",
                 value: self.min_score,
             });
         }
@@ -258,6 +258,17 @@ impl Person {
         }
         if let Some(previous) = self.last_t.filter(|&p| !(t > p)) {
             return Err(Error::TimeNotIncreasing { previous, got: t });
+        }
+        // A score is a probability; NaN means "not scored" and makes the keypoint missing below.
+        if let Some(index) = scores
+            .iter()
+            .position(|s| !s.is_nan() && !(0.0..=1.0).contains(s))
+        {
+            return Err(Error::InvalidArgument {
+                name: "scores",
+                expected: "keypoint scores from 0 to 1 (NaN for a keypoint not scored)",
+                value: scores[index],
+            });
         }
         self.last_t = Some(t);
 
@@ -952,14 +963,22 @@ mod tests {
     }
 
     #[test]
-    fn non_finite_scores_make_their_keypoints_missing() {
+    fn a_nan_score_makes_its_keypoint_missing_and_a_score_out_of_range_is_refused() {
         let mut track = Person::new(PersonConfig::default()).unwrap();
         let (joints, mut scores) = person([2.0, 0.0, 1.0], 3.0, true);
-        scores[LEFT_HIP] = f64::INFINITY;
-        scores[coco::LEFT_EYE] = f64::NAN; // the nose still shows the face: no swap
+        scores[LEFT_HIP] = f64::NAN;
         let obs = track.update(0.0, &joints, &scores, CAMERA).unwrap();
         assert_eq!(obs.status[LEFT_HIP], JointStatus::Lost);
         assert!(obs.weight.is_finite() && angle_error(obs.pose.unwrap()[AZIMUTH], 3.0) < 1e-9);
+        // A score of 5, 1e300 or infinity would become the forecaster's weight: refused, and the
+        // track is as it was (the next frame at the same time is taken).
+        let before = format!("{track:?}");
+        for bad in [5.0, 1e300, f64::INFINITY, -0.1] {
+            scores[LEFT_HIP] = bad;
+            assert!(track.update(0.04, &joints, &scores, CAMERA).is_err());
+            assert_eq!(format!("{track:?}"), before);
+        }
+        scores[LEFT_HIP] = 0.9;
         let obs = track.update(0.04, &joints, &scores, CAMERA).unwrap();
         assert!(obs.weight.is_finite() && obs.estimate == Estimate::Plane);
     }
