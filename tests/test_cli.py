@@ -52,3 +52,33 @@ def test_forecast_refuses_a_missing_file_and_a_malformed_row(tmp_path, capsys):
     (tmp_path / "bad.csv").write_text("0,0,0,1,0,1.5\n0.04,0,0,one,0,1.5\n")
     assert main(["forecast", str(tmp_path / "bad.csv")]) == 2
     assert "line 2: expected 6 or 7 comma-separated numbers" in capsys.readouterr().err
+
+
+def test_forecast_skips_a_pose_too_large_to_filter_and_writes_valid_json(tmp_path, capsys):
+    # A pose near 1e308 forecast as infinity and the command wrote the token Infinity, which
+    # is not JSON.
+    walk_csv(tmp_path / "walk.csv")
+    with open(tmp_path / "walk.csv", "a") as f:
+        f.write("\n2.0,1e308,0,1,0.5,1.5\n")
+    assert main(["forecast", str(tmp_path / "walk.csv")]) == 0
+    captured = capsys.readouterr()
+    lines = [json.loads(line) for line in captured.out.splitlines()]  # every line parses
+    assert len(lines) == 30 and "skipped" in captured.err and "= 1e308:" in captured.err
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["bench", "--windows", "0"], "--windows: expected a positive number"),
+        (["run", "nowhere", "--fps", "inf"], "--fps: expected a positive, finite frame rate"),
+    ],
+)
+def test_bad_numbers_on_the_command_line_are_one_line_and_exit_2(args, message, capsys):
+    assert main(args) == 2
+    assert message in capsys.readouterr().err
+
+
+def test_a_negative_spline_degree_is_an_argument_error():
+    with pytest.raises(SystemExit) as exit_code:
+        main(["forecast", "-", "--degree", "-1"])
+    assert exit_code.value.code == 2

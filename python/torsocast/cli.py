@@ -16,6 +16,9 @@ from . import COMPONENTS, Forecaster, ForecasterConfig, TorsocastError, __versio
 def _bench(args: argparse.Namespace) -> int:
     from .bench import measure, report
 
+    if args.windows < 1:
+        print(f"--windows: expected a positive number of windows, got {args.windows}", file=sys.stderr)
+        return 2
     print(f"torsocast {__version__}: forecast latency on this machine ({args.windows} windows for the batch)")
     print(report(measure(args.windows)))
     return 0
@@ -60,7 +63,7 @@ def _forecast(args: argparse.Namespace) -> int:
                 out["forecast"] = {
                     f"{h:g}": dict(zip(COMPONENTS, map(float, p))) for h, p in zip(horizons, pred)
                 }
-            print(json.dumps(out))
+            print(json.dumps(out, allow_nan=False))
     return 0
 
 
@@ -152,6 +155,9 @@ def _run(args: argparse.Namespace) -> int:
 
     horizons = _horizons(args.horizons)
     if horizons is None:
+        return 2
+    if not (np.isfinite(args.fps) and args.fps > 0):
+        print(f"--fps: expected a positive, finite frame rate, got {args.fps}", file=sys.stderr)
         return 2
     try:
         source = open_source(args.source, fps=args.fps)
@@ -245,7 +251,7 @@ def main(argv: list[str] | None = None) -> int:
     fc.add_argument(
         "--method", default="filter_spline", choices=["filter_spline", "const", "constant_velocity"]
     )
-    fc.add_argument("--degree", type=int, default=1)
+    fc.add_argument("--degree", type=int, default=1, choices=range(5), help="spline degree N (0 to 4)")
     fc.add_argument("--filter", default="zero_phase", choices=["off", "causal", "zero_phase"])
     fc.add_argument("--rate", type=float, default=25.0, help="forecaster grid rate (Hz)")
     fc.add_argument("--history", type=float, default=2.0, help="history length (s)")

@@ -46,7 +46,7 @@ impl fmt::Display for Error {
                 name,
                 expected,
                 value,
-            } => write!(f, "invalid `{name}` = {value}: expected {expected}"),
+            } => write!(f, "invalid `{name}` = {}: expected {expected}", Number(value)),
             Error::LengthMismatch {
                 name,
                 expected,
@@ -124,5 +124,20 @@ pub(crate) fn check_weights(name: &'static str, weights: &[f64]) -> Result<()> {
             expected: "finite, non-negative weights",
             value,
         }),
+    }
+}
+
+/// A value as a person reads it in one line: plain for everyday magnitudes, in exponent form
+/// for huge or tiny ones (`{}` would spell 1e308 with 308 digits).
+struct Number(f64);
+
+impl std::fmt::Display for Number {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let v = self.0;
+        if v != 0.0 && v.is_finite() && !(1e-4..1e6).contains(&v.abs()) {
+            write!(f, "{v:e}")
+        } else {
+            write!(f, "{v}")
+        }
     }
 }

@@ -9,6 +9,10 @@ use crate::error::{Error, Result};
 use crate::{Pose, AZIMUTH, ELEVATION};
 use std::f64::consts::{PI, TAU};
 
+/// Largest magnitude of a pose component (m or rad) a history takes: the filter and the spline's
+/// normal equations square the values, so poses near `f64::MAX` turn into infinities.
+pub const MAX_POSE_VALUE: f64 = 1e6;
+
 /// What [`History::push`] did besides storing the sample.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct UpdateReport {
@@ -120,6 +124,14 @@ impl History {
             return Err(Error::NonFinite {
                 name: "pose",
                 index,
+            });
+        }
+        if let Some(index) = pose.iter().position(|v| v.abs() > MAX_POSE_VALUE) {
+            return Err(Error::InvalidArgument {
+                name: "pose",
+                expected: "positions and angles within ±1e6 (m, rad): the filter and the fit \
+                           overflow far beyond",
+                value: pose[index],
             });
         }
         if !(weight.is_finite() && weight >= 0.0) {
@@ -275,5 +287,16 @@ mod tests {
             Err(Error::InvalidArgument { name: "weight", .. })
         ));
         assert_eq!(h.len(), 1);
+    }
+
+    #[test]
+    fn a_pose_too_large_to_filter_is_refused_and_changes_nothing() {
+        let mut h = History::new(10, 25.0, 10);
+        h.push([0.0, 0.0, 1.0, 0.1, 1.5], 0.0, 1.0).unwrap();
+        for bad in [1e7, -1e308] {
+            assert!(h.push([bad, 0.0, 1.0, 0.1, 1.5], 0.04, 1.0).is_err());
+            assert_eq!(h.len(), 1);
+        }
+        assert!(h.push([1e6, 0.0, 1.0, 0.1, 1.5], 0.04, 1.0).is_ok());
     }
 }
