@@ -243,3 +243,24 @@ def test_a_walkers_track_checks_its_forecasts_and_gives_intervals():
     assert half[0, 1] < 0.3  # the walking direction's error at 0.4 s stays within decimetres
     with pytest.raises(tc.InvalidArgumentError, match="horizons"):
         track.person.intervals([-1.0])
+
+
+def test_a_refused_frame_leaves_the_tracker_as_it_was():
+    # The time stamp was stored before the frame was checked: a NaN stamp on the first frame
+    # refused every later frame, and bad arrays used up the frame's time slot.
+    tracker = Tracker()
+    joints, scores = person([2.0, 0.0, 1.0], np.pi)
+    good = (joints[None], scores[None], CAMERA)
+    bad_frames = [
+        (float("nan"), *good),
+        (float("inf"), *good),
+        (0.0, joints, scores, CAMERA),  # unbatched joints
+        (0.0, joints[None], scores[None, :5], CAMERA),  # wrong-length scores
+        (0.0, joints[None], scores[None], [np.nan, 0.0, 0.0]),
+        (0.0, joints[None], 5.0 * scores[None], CAMERA),
+    ]
+    for t, j, s, camera in bad_frames:
+        with pytest.raises(tc.TorsocastError):
+            tracker.update(t, j, s, camera)
+        assert tracker.last_t is None and not tracker.slots
+    assert len(tracker.update(0.0, *good)) == 1

@@ -63,6 +63,8 @@ class Pipeline:
         """One frame through every stage. A frame whose time stamp is not after the previous
         frame's raises :class:`~torsocast.TimeNotIncreasingError` before the model runs, and one
         whose model output is unusable raises :class:`BadFrameError`; either changes nothing."""
+        if not np.isfinite(frame.time):
+            raise BadFrameError(f"frame {frame.index}: its time stamp must be finite, got {frame.time}")
         if self.last_time is not None and not frame.time > self.last_time:
             raise TimeNotIncreasingError(
                 f"frame {frame.index} at {frame.time} s is not after the previous frame's {self.last_time} s"

@@ -15,7 +15,7 @@ import numpy as np
 import numpy.typing as npt
 from scipy.optimize import linear_sum_assignment
 
-from ._core import TimeNotIncreasingError
+from ._core import InvalidArgumentError, NonFiniteError, ShapeError, TimeNotIncreasingError
 from .keypoints import coco
 from .track import F64, Observation, Track, TrackConfig
 
@@ -79,10 +79,26 @@ class Tracker:
     def update(
         self, t: float, joints: npt.NDArray[np.float64], scores: npt.NDArray[np.float64], camera_position: F64
     ) -> list[Result]:
-        """One frame: ``joints (people, 17, 3)`` in the world frame and their ``scores``."""
+        """One frame: ``joints (people, 17, 3)`` in the world frame and their ``scores``. Every
+        argument is checked before anything changes: a refused frame leaves the tracker as it
+        was."""
         c = self.config
+        joints, scores = np.asarray(joints, dtype=np.float64), np.asarray(scores, dtype=np.float64)
+        camera_position = np.asarray(camera_position, dtype=np.float64)
+        if not np.isfinite(t):
+            raise NonFiniteError(f"frame time must be finite, got {t}")
         if self.last_t is not None and not t > self.last_t:
             raise TimeNotIncreasingError(f"frame time {t} s is not after the last frame's {self.last_t} s")
+        if joints.ndim != 3 or joints.shape[1:] != (17, 3) or scores.shape != joints.shape[:2]:
+            raise ShapeError(
+                "joints must be (people, 17, 3) and scores (people, 17), "
+                f"got {joints.shape} and {scores.shape}"
+            )
+        if camera_position.shape != (3,) or not np.isfinite(camera_position).all():
+            raise NonFiniteError(f"camera_position must be 3 finite numbers, got {camera_position}")
+        bad = (scores < 0) | (scores > 1)
+        if bad.any():
+            raise InvalidArgumentError(f"scores must lie in 0..1 (NaN: not scored), got {scores[bad][0]:g}")
         self.last_t = t
         centres = detection_centres(joints, scores, c.track.min_score)
         placeable = np.flatnonzero(np.isfinite(centres[:, 0])).tolist()
