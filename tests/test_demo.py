@@ -16,6 +16,21 @@ from torsocast.synthetic.mannequin import Scene, _capsule
 from torsocast.synthetic.mocap import MocapScene, watching_camera
 
 
+class Replay:
+    """Recorded frames as a source."""
+
+    name = "replay"
+
+    def __init__(self, frames):
+        self.frames = frames
+
+    def __len__(self):
+        return len(self.frames)
+
+    def __iter__(self):
+        return iter(self.frames)
+
+
 @pytest.fixture(scope="module")
 def walk():
     return cmu.load_clip(cmu.bundled_clips()["test_walking_1"])
@@ -130,16 +145,7 @@ def test_run_leaves_out_a_frame_that_repeats_a_time_stamp(walk, tmp_path, capsys
     frames = list(MocapScene(walk, fps=10.0))[:15]
     repeated = frames[:10] + [frames[9]] + frames[10:]  # a live driver delivering a frame twice
 
-    class Replay:
-        name = "replay"
-
-        def __len__(self):
-            return len(repeated)
-
-        def __iter__(self):
-            return iter(repeated)
-
-    summary = run(Replay(), open_model(None), tmp_path, progress=False)
+    summary = run(Replay(repeated), open_model(None), tmp_path, progress=False)
     assert summary.frames == len(frames) and summary.rejected == 1
     assert "1 left out" in str(summary) and "frame 9 left out" in capsys.readouterr().err
     times = [json.loads(line)["time"] for line in (tmp_path / "frames.jsonl").read_text().splitlines()]
@@ -221,17 +227,7 @@ def test_a_frame_whose_model_scores_are_not_probabilities_is_left_out(walk, tmp_
             return found
 
     frames = list(MocapScene(walk, fps=10.0))[:10]
-
-    class Replay:
-        name = "replay"
-
-        def __len__(self):
-            return len(frames)
-
-        def __iter__(self):
-            return iter(frames)
-
-    summary = run(Replay(), Broken(), tmp_path, progress=False)
+    summary = run(Replay(frames), Broken(), tmp_path, progress=False)
     assert summary.frames == 9 and summary.rejected == 1
     assert "scores outside 0..1" in capsys.readouterr().err
     pipeline = Pipeline(Broken())

@@ -23,6 +23,24 @@ pub struct Person {
     scratch: Vec<Pose>,
 }
 
+impl Person {
+    /// One pose per horizon from the core into a `(len(horizons), 5)` array, or None where the
+    /// core has none yet.
+    fn per_horizon<'py>(
+        &mut self,
+        py: Python<'py>,
+        horizons: &[f64],
+        fill: impl FnOnce(&mut torso_core::Person, &[f64], &mut [Pose]) -> torso_core::Result<bool>,
+    ) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
+        self.scratch.resize(horizons.len(), [0.0; 5]);
+        if fill(&mut self.inner, horizons, &mut self.scratch).map_err(to_py)? {
+            Ok(Some(matrix(py, &self.scratch)?))
+        } else {
+            Ok(None)
+        }
+    }
+}
+
 /// What a person's track made of one frame.
 #[pyclass(module = "torsocast._core", frozen)]
 pub struct Observation {
@@ -130,16 +148,7 @@ impl Person {
         py: Python<'py>,
         horizons: Vec<f64>,
     ) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
-        self.scratch.resize(horizons.len(), [0.0; 5]);
-        if self
-            .inner
-            .forecast(&horizons, &mut self.scratch)
-            .map_err(to_py)?
-        {
-            Ok(Some(matrix(py, &self.scratch)?))
-        } else {
-            Ok(None)
-        }
+        self.per_horizon(py, &horizons, torso_core::Person::forecast)
     }
 
     /// intervals(horizons) -> array (len(horizons), 5) of the half-widths of the central 80 %
@@ -149,16 +158,7 @@ impl Person {
         py: Python<'py>,
         horizons: Vec<f64>,
     ) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
-        self.scratch.resize(horizons.len(), [0.0; 5]);
-        if self
-            .inner
-            .intervals(&horizons, &mut self.scratch)
-            .map_err(to_py)?
-        {
-            Ok(Some(matrix(py, &self.scratch)?))
-        } else {
-            Ok(None)
-        }
+        self.per_horizon(py, &horizons, |p, h, out| p.intervals(h, out))
     }
 
     /// Samples in the forecaster's history.
