@@ -359,10 +359,15 @@ impl Person {
                     .forecaster
                     .sample(self.forecaster.len() - 1)
                     .expect("not empty");
+                let rate = history_velocity(&self.forecaster);
                 for ((pose, plain), h) in out.iter_mut().zip(plain.iter()).zip(horizons) {
                     let w = check.weights(*h);
                     for c in 0..5 {
-                        pose[c] = w[c][0] * hold[c] + w[c][1] * pose[c] + w[c][2] * plain[c];
+                        let velocity = hold[c] + rate[c] * h;
+                        pose[c] = w[c][0] * hold[c]
+                            + w[c][1] * pose[c]
+                            + w[c][2] * plain[c]
+                            + w[c][3] * velocity;
                     }
                 }
             }
@@ -427,7 +432,9 @@ impl Person {
             .forecast_both(&CHECK_HORIZONS, &mut damped, &mut plain)
             .is_ok()
         {
-            check.record(t, sample, &damped, &plain);
+            let rate = history_velocity(&self.forecaster);
+            let velocity = CHECK_HORIZONS.map(|h| std::array::from_fn(|c| sample[c] + rate[c] * h));
+            check.record(t, sample, &damped, &plain, &velocity);
         }
     }
 
@@ -575,6 +582,19 @@ impl Person {
             Estimate::Shoulders,
             0.5 * (weights[0] + weights[1]),
         )
+    }
+}
+
+/// Mean rate of change of every pose component over the forecaster's history (the thesis'
+/// constant-velocity baseline); zero with fewer than two samples.
+fn history_velocity(f: &Forecaster) -> Pose {
+    let n = f.len();
+    match (n >= 2, f.sample(0), f.sample(n.saturating_sub(1))) {
+        (true, Some((first, _)), Some((last, _))) => {
+            let span = (n - 1) as f64 / f.config().rate_hz;
+            std::array::from_fn(|c| (last[c] - first[c]) / span)
+        }
+        _ => [0.0; 5],
     }
 }
 

@@ -22,11 +22,11 @@ const MIN_SCORED: f64 = 3.0;
 /// trend beats holding still, though not for people jumping on the spot), the angles hold
 /// still (a detector's azimuth and elevation noise makes a young track's angular trend a guess).
 const UNCHECKED: [[f64; CANDIDATES]; 5] = [
-    [0.0, 1.0, 0.0],
-    [0.0, 1.0, 0.0],
-    [0.0, 1.0, 0.0],
-    [1.0, 0.0, 0.0],
-    [1.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0, 0.0],
+    [1.0, 0.0, 0.0, 0.0],
+    [1.0, 0.0, 0.0, 0.0],
 ];
 /// Half-width of a central 80 % interval in units of [`SelfCheck::spread`]. A normal error would
 /// need 1.28; forecast errors against the truth have heavier tails and include what the track
@@ -34,12 +34,12 @@ const UNCHECKED: [[f64; CANDIDATES]; 5] = [
 /// was set on the scenes benchmark's development split, where it brings the azimuth intervals
 /// to 80 % over all motions (docs/benchmark.md gives the coverage per motion and component).
 pub const INTERVAL_80: f64 = 2.2;
-/// The candidates: hold still, damped trend, plain trend.
-pub const CANDIDATES: usize = 3;
+/// The candidates: hold still, damped trend, plain trend, constant velocity over the history.
+pub const CANDIDATES: usize = 4;
 /// The horizons (s) checked: the thesis' 0.4, 1 and 2 s.
 pub const HORIZONS: [f64; 3] = [0.4, 1.0, 2.0];
 const H: usize = HORIZONS.len();
-const HOLD_ONLY: [f64; CANDIDATES] = [1.0, 0.0, 0.0];
+const HOLD_ONLY: [f64; CANDIDATES] = [1.0, 0.0, 0.0, 0.0];
 
 #[derive(Clone, Copy, Debug, Default)]
 struct Prediction {
@@ -76,10 +76,17 @@ impl SelfCheck {
         }
     }
 
-    /// The forecaster took `sample` at grid time `t` and predicts `damped[k]` and `plain[k]` for
-    /// `t + HORIZONS[k]`: the predictions aimed at `t` are scored against `sample`, and these
-    /// kept.
-    pub fn record(&mut self, t: f64, sample: Pose, damped: &[Pose; H], plain: &[Pose; H]) {
+    /// The forecaster took `sample` at grid time `t` and predicts `damped[k]`, `plain[k]` and
+    /// `velocity[k]` for `t + HORIZONS[k]`: the predictions aimed at `t` are scored against
+    /// `sample`, and these kept.
+    pub fn record(
+        &mut self,
+        t: f64,
+        sample: Pose,
+        damped: &[Pose; H],
+        plain: &[Pose; H],
+        velocity: &[Pose; H],
+    ) {
         for p in self.ring.iter_mut() {
             for k in 0..H {
                 if !(p.pending[k] && p.made + HORIZONS[k] <= t + self.half_step) {
@@ -103,7 +110,7 @@ impl SelfCheck {
         }
         self.ring[self.next] = Prediction {
             made: t,
-            poses: std::array::from_fn(|k| [sample, damped[k], plain[k]]),
+            poses: std::array::from_fn(|k| [sample, damped[k], plain[k], velocity[k]]),
             pending: [true; H],
         };
         self.next = (self.next + 1) % self.ring.len();
@@ -117,18 +124,21 @@ impl SelfCheck {
     pub fn weights(&self, horizon: f64) -> [[f64; CANDIDATES]; 5] {
         let nearest = self.nearest(horizon);
         if self.scored[nearest] >= MIN_SCORED {
-            return self.sums[nearest].map(|s| convex_min_variance(&s));
+            return std::array::from_fn(|c| {
+                convex_min_variance(&self.sums[nearest][c], allowed(c))
+            });
         }
         // Not yet checked this far: a shorter check's weights serve; for the angles, its trust
         // in a trend goes to the damped one, which fades with the horizon (a turn does not go on
         // for ever; a walk mostly does).
         match (0..nearest).rev().find(|&k| self.scored[k] >= MIN_SCORED) {
             Some(k) => std::array::from_fn(|c| {
-                let [hold, damped, plain] = convex_min_variance(&self.sums[k][c]);
+                let [hold, damped, plain, velocity] =
+                    convex_min_variance(&self.sums[k][c], allowed(c));
                 if c < 3 {
-                    [hold, damped, plain]
+                    [hold, damped, plain, velocity]
                 } else {
-                    [hold, damped + plain, 0.0]
+                    [hold, damped + plain + velocity, 0.0, 0.0]
                 }
             }),
             None => UNCHECKED,
@@ -186,10 +196,20 @@ impl SelfCheck {
 /// The weights `w ≥ 0`, `Σ w = 1` that minimise `wᵀ S w`: the best of the equality-constrained
 /// minima over every subset of candidates whose weights come out non-negative. Hold wins ties
 /// and degenerate cases.
-fn convex_min_variance(s: &[[f64; CANDIDATES]; CANDIDATES]) -> [f64; CANDIDATES] {
+/// The candidates a component may mix, as a bit set: all four for the centre; the angles leave
+/// out constant velocity, which carries a front/back flip in the history on for ever.
+fn allowed(component: usize) -> u32 {
+    if component < 3 {
+        0b1111
+    } else {
+        0b0111
+    }
+}
+
+fn convex_min_variance(s: &[[f64; CANDIDATES]; CANDIDATES], allowed: u32) -> [f64; CANDIDATES] {
     let mut best = HOLD_ONLY;
     let mut best_value = quadratic(s, &best);
-    for i in 1..CANDIDATES {
+    for i in (1..CANDIDATES).filter(|i| allowed & (1 << i) != 0) {
         // A single candidate needs no solve (and may have erred not at all).
         if s[i][i] < best_value {
             best = [0.0; CANDIDATES];
@@ -197,7 +217,7 @@ fn convex_min_variance(s: &[[f64; CANDIDATES]; CANDIDATES]) -> [f64; CANDIDATES]
             best_value = s[i][i];
         }
     }
-    for subset in 1u32..(1 << CANDIDATES) {
+    for subset in (1u32..(1 << CANDIDATES)).filter(|s| s & !allowed == 0) {
         if subset.count_ones() < 2 {
             continue;
         }
@@ -280,11 +300,11 @@ mod tests {
             let sample = [t, 0.0, 1.0, 0.3, 1.5];
             let damped = HORIZONS.map(|h| [t + 0.5 * h, 0.0, 1.0, 0.3 + 0.5 * h, 1.5]);
             let plain = HORIZONS.map(|h| [t + h, 0.0, 1.0, 0.3 + h, 1.5]);
-            check.record(t, sample, &damped, &plain);
+            check.record(t, sample, &damped, &damped, &plain);
         }
         for h in [0.1, 0.4, 0.8, 1.5, 3.0] {
             let w = check.weights(h);
-            assert!((w[0][2] - 1.0).abs() < 1e-12, "{h}: {:?}", w[0]);
+            assert!((w[0][3] - 1.0).abs() < 1e-12, "{h}: {:?}", w[0]);
             assert!((w[3][0] - 1.0).abs() < 1e-12, "{h}: {:?}", w[3]);
             assert_eq!(w[1], HOLD_ONLY); // all exact: no evidence for a trend
         }
@@ -302,7 +322,7 @@ mod tests {
             let t = k as f64 / 25.0;
             let sample = [if k % 2 == 0 { 0.1 } else { -0.1 }; 5];
             let trend = sample.map(|v| v + 0.3);
-            check.record(t, sample, &[trend; 3], &[trend; 3]);
+            check.record(t, sample, &[trend; 3], &[trend; 3], &[trend; 3]);
         }
         assert_eq!(check.weights(0.4)[0], HOLD_ONLY);
         assert_eq!(check.weights(1.0)[0], HOLD_ONLY);
@@ -314,12 +334,22 @@ mod tests {
     #[test]
     fn the_convex_minimum_matches_closed_forms() {
         // Two independent predictors of variances 1 and 3: weights 3/4 and 1/4.
-        let s = [[1.0, 0.0, 0.0], [0.0, 3.0, 0.0], [0.0, 0.0, 1e9]];
-        let w = convex_min_variance(&s);
-        assert!((w[0] - 0.75).abs() < 1e-9 && (w[1] - 0.25).abs() < 1e-9 && w[2].abs() < 1e-9);
+        let s = [
+            [1.0, 0.0, 0.0, 0.0],
+            [0.0, 3.0, 0.0, 0.0],
+            [0.0, 0.0, 1e9, 0.0],
+            [0.0, 0.0, 0.0, 1e9],
+        ];
+        let w = convex_min_variance(&s, 0b1111);
+        assert!((w[0] - 0.75).abs() < 1e-6 && (w[1] - 0.25).abs() < 1e-6 && w[2].abs() < 1e-6);
         // A predictor whose error is always larger and positively correlated gets no weight.
-        let s = [[1.0, 1.5, 0.0], [1.5, 4.0, 0.0], [0.0, 0.0, 9.0]];
-        let w = convex_min_variance(&s);
+        let s = [
+            [1.0, 1.5, 0.0, 0.0],
+            [1.5, 4.0, 0.0, 0.0],
+            [0.0, 0.0, 9.0, 0.0],
+            [0.0, 0.0, 0.0, 9.0],
+        ];
+        let w = convex_min_variance(&s, 0b1111);
         assert!(w.iter().all(|&v| v >= 0.0) && (w.iter().sum::<f64>() - 1.0).abs() < 1e-12);
         assert!(w[1].abs() < 1e-12, "{w:?}");
     }

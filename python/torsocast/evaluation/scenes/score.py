@@ -87,7 +87,7 @@ class Scorer:
         self.scene, self.horizons, self.min_score = scene, horizons, min_score
         self.camera_xy = np.asarray(scene.camera.camera_to_world)[:2, 3]
         self.score = SceneScore()
-        self.velocity: dict[int, Forecaster] = {}
+        self.velocity: dict[object, Forecaster] = {}
         self.seen_ids: dict[int, list[tuple[float, int | None]]] = defaultdict(list)
         spec = scene.spec
         self.conditions = {
@@ -117,7 +117,8 @@ class Scorer:
             obs, track = person.observation, person.track
             if obs is None or obs.pose is None or track is None:
                 continue
-            f = self.velocity.setdefault(id(track), Forecaster(ForecasterConfig("constant_velocity")))
+            # Keyed by the track itself (kept alive here): an id() of a dropped track can be reused.
+            f = self.velocity.setdefault(track, Forecaster(ForecasterConfig("constant_velocity")))
             try:
                 f.update(obs.pose, t, 1.0)
             except TorsocastError:
@@ -144,7 +145,7 @@ class Scorer:
 
     def _forecasts(self, actor: int, t: float, pose: F64, ahead: F64, spread: F64 | None, track) -> None:  # type: ignore[no-untyped-def]
         origin = track.last_time
-        velocity = self.velocity.get(id(track))
+        velocity = self.velocity.get(track)
         cv = None
         if velocity is not None and len(velocity) >= velocity.min_samples:
             cv = velocity.forecast(self.horizons)
