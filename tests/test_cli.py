@@ -82,3 +82,21 @@ def test_a_negative_spline_degree_is_an_argument_error():
     with pytest.raises(SystemExit) as exit_code:
         main(["forecast", "-", "--degree", "-1"])
     assert exit_code.value.code == 2
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--horizons", "-1"], "--horizons: expected seconds > 0"),
+        (["--horizons", "0.4,inf"], "--horizons: expected seconds > 0"),
+        (["--out", "FILE"], "--out: cannot use"),
+    ],
+)
+def test_run_and_demo_refuse_bad_horizons_and_an_output_that_is_a_file(args, message, tmp_path, capsys):
+    # Each of these ended in a traceback (ValueError from the pipeline, FileExistsError).
+    (tmp_path / "FILE").write_text("not a folder")
+    args = [str(tmp_path / a) if a == "FILE" else a for a in args]
+    out = [] if "--out" in args else ["--out", str(tmp_path / "out")]
+    for command in (["run", str(tmp_path)], ["demo"]):
+        assert main([*command, *args, *out]) == 2
+        assert message in capsys.readouterr().err

@@ -27,11 +27,8 @@ def _bench(args: argparse.Namespace) -> int:
 def _forecast(args: argparse.Namespace) -> int:
     """Reads `t,x,y,z,azimuth,elevation[,weight]` rows (one track) and writes one JSON object per row
     with the forecasts at the requested horizons."""
-    horizons = _horizons(args.horizons)
+    horizons = _horizons(args.horizons, positive=False)
     if horizons is None:
-        return 2
-    if any(not (np.isfinite(h) and h >= 0) for h in horizons):
-        print(f"--horizons: expected seconds >= 0, got {args.horizons!r}", file=sys.stderr)
         return 2
     config = ForecasterConfig(
         args.method, degree=args.degree, filter=args.filter, rate_hz=args.rate, history=args.history
@@ -159,6 +156,8 @@ def _run(args: argparse.Namespace) -> int:
     if not (np.isfinite(args.fps) and args.fps > 0):
         print(f"--fps: expected a positive, finite frame rate, got {args.fps}", file=sys.stderr)
         return 2
+    if _out_folder(args.out) is None:
+        return 2
     try:
         source = open_source(args.source, fps=args.fps)
         model = open_model(args.model, args.family, args.device)
@@ -188,7 +187,7 @@ def _demo(args: argparse.Namespace) -> int:
     from .demo import demo
 
     horizons = _horizons(args.horizons)
-    if horizons is None:
+    if horizons is None or _out_folder(args.out) is None:
         return 2
     try:
         result = demo(args.out, args.clip, horizons, args.model, args.overlay, video=args.video)
@@ -199,12 +198,30 @@ def _demo(args: argparse.Namespace) -> int:
     return 0
 
 
-def _horizons(text: str) -> list[float] | None:
+def _horizons(text: str, positive: bool = True) -> list[float] | None:
+    """The ``--horizons`` list, or None after saying what is wrong with it: seconds, finite,
+    above 0 (``positive``) or at least 0."""
     try:
-        return [float(h) for h in text.split(",") if h]
+        horizons = [float(h) for h in text.split(",") if h]
     except ValueError:
         print(f"--horizons: expected comma-separated seconds, got {text!r}", file=sys.stderr)
         return None
+    if any(not (np.isfinite(h) and (h > 0 if positive else h >= 0)) for h in horizons):
+        bound = "> 0" if positive else ">= 0"
+        print(f"--horizons: expected seconds {bound}, got {text!r}", file=sys.stderr)
+        return None
+    return horizons
+
+
+def _out_folder(path: str) -> Path | None:
+    """The output folder, made if missing, or None after saying why it cannot be."""
+    out = Path(path)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        print(f"--out: cannot use {out} as the output folder: {e.strerror or e}", file=sys.stderr)
+        return None
+    return out
 
 
 def _is_number(text: str) -> bool:
