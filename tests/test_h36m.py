@@ -154,3 +154,25 @@ def test_column_correlations_match_scipy(h36m_root):
             theirs = [thesis.TABLE_5_4[quantity][a][i] for a in names]
             assert got[quantity][column][0] == pytest.approx(pearsonr(ours, theirs)[0], abs=1e-12)
             assert got[quantity][column][1] == pytest.approx(spearmanr(ours, theirs)[0], abs=1e-12)
+
+
+def test_eval_leaves_out_a_file_it_cannot_use_and_says_so(h36m_root, tmp_path, capsys):
+    # A take whose up axis fails the sanity check, or a garbled file, stopped the whole
+    # evaluation with a ValueError; it is now left out and named.
+    subject = tmp_path / "S9"
+    subject.mkdir()
+    good = (h36m_root / "S5" / "walking_1.txt").read_text()
+    (subject / "walking_1.txt").write_text(good)
+    rows = np.array([line.split(",") for line in good.splitlines() if line.strip()], dtype=float)
+    tilted = rows.copy()
+    tilted[:, 3:6] = [0.0, 0.0, np.pi / 2]  # the root lies on its side every frame: no up axis
+    tilted[1:, 3:6] = 0.0  # (root rotations are increments: only the first one turns it)
+    (subject / "walking_2.txt").write_text("\n".join(",".join(map(str, r)) for r in tilted))
+    (subject / "eating_1.txt").write_text("not,numbers\n")
+    out = tmp_path / "out"
+    assert main(["eval", "h36m", "--data", str(tmp_path), "--subjects", "9", "--out", str(out)]) == 0
+    report = json.loads((out / "report.json").read_text())
+    left_out = " ".join(report["left_out"])
+    assert "S9/eating_1" in left_out and "S9/walking_2" in left_out and "gravity" in left_out
+    assert [s["name"] for s in report["sequences"]] == ["S9/walking_1"]
+    assert "Files left out" in capsys.readouterr().out

@@ -90,7 +90,13 @@ def _eval_h36m(args: argparse.Namespace) -> int:
         return 2
     methods = method_configs()
     progress = Progress(files + len(methods), f"eval h36m ({args.protocol})")
-    result = evaluate(data, subjects, args.protocol, args.every, methods, progress)
+    try:
+        result = evaluate(data, subjects, args.protocol, args.every, methods, progress)
+    except (FileNotFoundError, ValueError) as e:
+        print(f"torsocast eval h36m: {e}", file=sys.stderr)
+        return 2
+    for line in result["left_out"]:
+        print(f"left out {line}", file=sys.stderr)
     print(report.markdown(result))
     try:
         import matplotlib  # noqa: F401

@@ -30,7 +30,7 @@ def select(
 ) -> dict[str, tuple[float, list[float]]]:
     """Best time constant per quantity, with its action-averaged window-mean errors at the table
     horizons."""
-    windows = protocol.select(load(data, subjects), "dense", every)
+    windows = protocol.select(load(data, subjects)[0], "dense", every)
     horizons = list(np.arange(1, protocol.FUTURE + 1) / RATE_HZ)
     actions = list(dict.fromkeys(windows.action))
     scores: dict[str, list[tuple[float, float, list[float]]]] = {q: [] for q in metrics.QUANTITIES}

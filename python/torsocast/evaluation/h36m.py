@@ -33,16 +33,24 @@ def load(
     gravity_rule: str = "auto",
 ) -> list[h36m.Sequence]:
     """Every available file of the subjects as a pose series (plane joints and gravity rule as
-    :func:`torsocast.datasets.h36m.load_sequence` takes them)."""
+    :func:`torsocast.datasets.h36m.load_sequence` takes them), and a line for each file left out
+    because it cannot be read or fails the gravity check (a take whose up axis cannot be found is
+    said and skipped, not fatal)."""
     pairs = [(s, a, sub) for s in subjects for a, sub in h36m.available(data, s)]
     if not pairs:
         raise FileNotFoundError(f"no Human3.6M files for subjects {list(subjects)} under {data}")
-    sequences = []
+    sequences, left_out = [], []
     for subject, action, sub in pairs:
-        sequences.append(h36m.load_sequence(data, subject, action, sub, torso_joints, gravity_rule))
+        name = f"S{subject}/{action}_{sub}"
+        try:
+            sequences.append(h36m.load_sequence(data, subject, action, sub, torso_joints, gravity_rule))
+        except ValueError as e:
+            left_out.append(f"{name}: {e}")
         if progress:
-            progress(sequences[-1].name)
-    return sequences
+            progress(name)
+    if not sequences:
+        raise ValueError(f"no readable Human3.6M file for subjects {list(subjects)}: " + "; ".join(left_out))
+    return sequences, left_out
 
 
 def summarise(errors: metrics.StepErrors, mask: np.ndarray) -> dict[str, Any]:
@@ -89,7 +97,7 @@ def evaluate(
     """Runs every method on the protocol's windows and returns the report as plain data (the JSON
     output holds exactly this)."""
     methods = dict(methods) if methods is not None else method_configs()
-    sequences = load(data, subjects, progress, torso_joints, gravity_rule)
+    sequences, left_out = load(data, subjects, progress, torso_joints, gravity_rule)
     windows = protocol.select(sequences, protocol_name, every)
     if len(windows) == 0:
         raise ValueError(f"protocol {protocol_name!r} found no windows in {len(sequences)} sequences")
@@ -127,6 +135,7 @@ def evaluate(
         },
         "categories": category_members,
         "torso_joints": {str(j): side for j, side in torso_joints.items()},
+        "left_out": left_out,
         "sequences": [
             {
                 "name": s.name,

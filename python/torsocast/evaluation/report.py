@@ -111,6 +111,8 @@ def markdown(report: dict[str, Any]) -> str:
         "Figures are the mean absolute error over the forecast window unless marked 'end'; "
         "category and All rows average their actions. Thesis values in brackets.",
     ]
+    if report.get("left_out"):
+        parts.append("Files left out: " + "; ".join(report["left_out"]) + ".")
     for quantity, number in (("azimuth", "5.3 (azimuth)"), ("elevation", "5.3 (elevation)")):
         parts += [f"## Table {number}, degrees", table_5_3(report, quantity)]
     for quantity, number in (("azimuth", "5.4"), ("elevation", "5.5")):
