@@ -100,3 +100,17 @@ def test_run_and_demo_refuse_bad_horizons_and_an_output_that_is_a_file(args, mes
     for command in (["run", str(tmp_path)], ["demo"]):
         assert main([*command, *args, *out]) == 2
         assert message in capsys.readouterr().err
+
+
+def test_forecast_reads_a_byte_order_mark_and_refuses_what_has_no_rows(tmp_path, capsys):
+    track = walk_csv(tmp_path / "walk.csv")
+    body = "\n".join(",".join(map(str, r)) for r in track)
+    (tmp_path / "bom.csv").write_text("\ufeff" + body, encoding="utf-8")  # the mark dropped row 1
+    assert main(["forecast", str(tmp_path / "bom.csv")]) == 0
+    assert len(capsys.readouterr().out.splitlines()) == len(track)
+    # A ';'-separated file and UTF-16 text gave exit 0 and no output, or a traceback.
+    (tmp_path / "semi.csv").write_text(body.replace(",", ";"))
+    (tmp_path / "utf16.csv").write_text(body, encoding="utf-16")
+    for name, message in (("semi.csv", "has no rows of 6 or 7"), ("utf16.csv", "is not UTF-8 text")):
+        assert main(["forecast", str(tmp_path / name)]) == 2
+        assert message in capsys.readouterr().err

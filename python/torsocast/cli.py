@@ -35,32 +35,46 @@ def _forecast(args: argparse.Namespace) -> int:
     )
     forecaster = Forecaster(config)
     try:
-        source = sys.stdin if args.input == "-" else open(args.input)  # noqa: SIM115
+        # utf-8-sig: a byte-order mark is not part of the first row.
+        source = sys.stdin if args.input == "-" else open(args.input, encoding="utf-8-sig")  # noqa: SIM115
     except OSError as e:
         print(f"torsocast forecast: {e}", file=sys.stderr)
         return 2
+    rows = 0
     with source:
-        for line_no, line in enumerate(source, 1):
-            fields = line.strip().split(",")
-            if not line.strip() or line.startswith("#") or not _is_number(fields[0]):
-                continue
-            if len(fields) not in (6, 7) or not all(map(_is_number, fields)):
-                print(f"line {line_no}: expected 6 or 7 comma-separated numbers", file=sys.stderr)
-                return 2
-            row = np.array(fields, dtype=float)
-            try:
-                report = forecaster.update(row[1:6], row[0], row[6] if len(row) == 7 else 1.0)
-            except TorsocastError as e:
-                print(f"line {line_no}: skipped: {e}", file=sys.stderr)
-                continue
-            out: dict[str, object] = {"t": row[0], "filled": report[0], "restarted": report[1]}
-            if len(forecaster) >= forecaster.min_samples:
-                pred = forecaster.forecast(horizons)
-                pred[:, 3] = wrap_angle(pred[:, 3])
-                out["forecast"] = {
-                    f"{h:g}": dict(zip(COMPONENTS, map(float, p))) for h, p in zip(horizons, pred)
-                }
-            print(json.dumps(out, allow_nan=False))
+        try:
+            for line_no, line in enumerate(source, 1):
+                fields = line.strip().lstrip("\ufeff").split(",")
+                if not line.strip() or line.startswith("#") or not _is_number(fields[0]):
+                    continue
+                if len(fields) not in (6, 7) or not all(map(_is_number, fields)):
+                    print(f"line {line_no}: expected 6 or 7 comma-separated numbers", file=sys.stderr)
+                    return 2
+                rows += 1
+                row = np.array(fields, dtype=float)
+                try:
+                    report = forecaster.update(row[1:6], row[0], row[6] if len(row) == 7 else 1.0)
+                except TorsocastError as e:
+                    print(f"line {line_no}: skipped: {e}", file=sys.stderr)
+                    continue
+                out: dict[str, object] = {"t": row[0], "filled": report[0], "restarted": report[1]}
+                if len(forecaster) >= forecaster.min_samples:
+                    pred = forecaster.forecast(horizons)
+                    pred[:, 3] = wrap_angle(pred[:, 3])
+                    out["forecast"] = {
+                        f"{h:g}": dict(zip(COMPONENTS, map(float, p))) for h, p in zip(horizons, pred)
+                    }
+                print(json.dumps(out, allow_nan=False))
+        except UnicodeDecodeError as e:
+            print(f"torsocast forecast: {args.input} is not UTF-8 text ({e.reason})", file=sys.stderr)
+            return 2
+    if rows == 0:
+        print(
+            f"torsocast forecast: {args.input} has no rows of 6 or 7 comma-separated numbers "
+            "(t,x,y,z,azimuth,elevation[,weight])",
+            file=sys.stderr,
+        )
+        return 2
     return 0
 
 
