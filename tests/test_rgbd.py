@@ -165,3 +165,29 @@ def test_a_video_file_gives_its_frames_and_run_finds_both_people_in_2d(tmp_path,
     for reference in ([1432.4, 621.2], [660.6, 165.3]):  # left shoulders: woman, man
         found = min(np.abs(np.array(p["keypoints"][5][:2]) - reference).max() for p in people)
         assert found < 16.0
+
+
+def test_depth_that_cannot_be_read_right_is_refused_with_a_reason(tmp_path):
+    from PIL import Image
+
+    from torsocast.pipeline import BadFrameError
+    from torsocast.sources.folder import read_depth_png
+
+    # An 8-bit depth PNG was read as millimetres; a TUM folder without a pairable depth image
+    # gave a run of 0 frames and exit 0; depth at half the colour size was read at the wrong
+    # pixels.
+    Image.fromarray(np.full((4, 4), 200, np.uint8)).save(tmp_path / "eight.png")
+    with pytest.raises(ValueError, match="16-bit"):
+        read_depth_png(tmp_path / "eight.png")
+    tum = tmp_path / "tum"
+    tum.mkdir()
+    (tum / "rgb.txt").write_text("100.0 rgb/0.png\n")
+    (tum / "depth.txt").write_text("200.0 depth/0.png\n")
+    with pytest.raises(ValueError, match="no colour image has a depth image within"):
+        open_source(tum)
+    frame = next(iter(open_source(shared_path("data", "rgbd", "turntable"))))
+    frame.depth = frame.depth[::2, ::2]
+    pipeline = Pipeline(open_model())
+    with pytest.raises(BadFrameError, match="not registered to colour"):
+        pipeline(frame)
+    assert pipeline.last_time is None

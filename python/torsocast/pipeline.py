@@ -69,6 +69,11 @@ class Pipeline:
             raise TimeNotIncreasingError(
                 f"frame {frame.index} at {frame.time} s is not after the previous frame's {self.last_time} s"
             )
+        if frame.depth is not None and frame.depth.shape != frame.color.shape[:2]:
+            raise BadFrameError(
+                f"frame {frame.index}: depth {frame.depth.shape} is not registered to colour "
+                f"{frame.color.shape[:2]} (the keypoints would read depth at the wrong pixels)"
+            )
         clock = time.perf_counter()
         detections = self.model(frame.color)
         scores = detections.keypoints[..., 2]

@@ -35,8 +35,16 @@ def read_rgb(path: Path) -> np.ndarray:
 
 
 def read_depth_png(path: Path) -> np.ndarray:
+    """A single-channel depth image of 16-bit (or wider) integers; an 8-bit or colour image is
+    refused (read as depth, its values would be metres off)."""
     with Image.open(path) as image:
-        return np.asarray(image)
+        depth = np.asarray(image)
+    if depth.ndim != 2 or not (np.issubdtype(depth.dtype, np.integer) and depth.dtype.itemsize >= 2):
+        raise ValueError(
+            f"{path}: a depth image must be one channel of 16-bit integers, got {depth.dtype} "
+            f"with shape {depth.shape}"
+        )
+    return depth
 
 
 def opencv_matrix(root: ET.Element, name: str) -> np.ndarray | None:
@@ -129,6 +137,11 @@ class TumFolder:
         close = np.abs(rgb_times - depth_times[nearest]) <= max_difference
         self.pairs = [(rgb_times[i], rgb[i], depth[nearest[i]]) for i in np.flatnonzero(close)]
         self.unpaired = int((~close).sum())
+        if not self.pairs:
+            raise ValueError(
+                f"{self.root}: no colour image has a depth image within {max_difference} s "
+                f"({len(rgb_times)} colour, {len(depth_times)} depth)"
+            )
         self.camera = Camera(intrinsics, level_camera() if camera_to_world is None else camera_to_world)
 
     def __len__(self) -> int:
