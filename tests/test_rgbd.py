@@ -191,3 +191,47 @@ def test_depth_that_cannot_be_read_right_is_refused_with_a_reason(tmp_path):
     with pytest.raises(BadFrameError, match="not registered to colour"):
         pipeline(frame)
     assert pipeline.last_time is None
+
+
+def test_run_skips_frames_it_cannot_read_and_reports_them(tmp_path, capsys):
+    # A truncated JPEG, a missing camera file, a garbage depth PNG and a PNG that claims
+    # 30000x30000 pixels each ended the run in a traceback; a missing camera file also shifted
+    # the later frames' time stamps.
+    import shutil
+
+    from PIL import Image
+
+    turntable = shared_path("data", "rgbd", "turntable")
+    folder = tmp_path / "frames"
+    folder.mkdir()
+    for k in range(7):
+        for suffix in (".jpg", "_depth.png", "_camera.xml"):
+            shutil.copy(turntable / f"{k:010d}{suffix}", folder / f"{k:010d}{suffix}")
+    jpg = folder / "0000000001.jpg"
+    jpg.write_bytes(jpg.read_bytes()[:2000])
+    (folder / "0000000002_camera.xml").unlink()
+    (folder / "0000000003_depth.png").write_bytes(b"not a png")
+    bomb = folder / "0000000004.jpg"
+    bomb.unlink()
+    Image.new("1", (30000, 30000)).save(folder / "0000000004.png")
+    out = tmp_path / "out"
+    assert main(["run", str(folder), "--out", str(out)]) == 0
+    captured = capsys.readouterr()
+    assert "4 unreadable, skipped" in captured.out
+    for k in (1, 2, 3, 4):
+        assert f"frame {k} skipped" in captured.err
+    lines = [json.loads(line) for line in (out / "frames.jsonl").read_text().splitlines()]
+    assert [("skipped" in line) for line in lines] == [False, True, True, True, True, False, False]
+    assert lines[5]["time"] == pytest.approx(5 / 30, abs=1e-6)  # not re-timed by the missing camera file
+
+
+def test_run_refuses_a_model_or_recording_it_cannot_load(tmp_path, capsys):
+    (tmp_path / "text.onnx").write_text("not a model")
+    (tmp_path / "cut.npz").write_bytes(b"PK\x03\x04 cut short")
+    turntable = str(shared_path("data", "rgbd", "turntable"))
+    for args, message in (
+        ([turntable, "--model", str(tmp_path / "text.onnx")], "not a model onnxruntime can load"),
+        ([str(tmp_path / "cut.npz")], "not a readable .npz recording"),
+    ):
+        assert main(["run", *args, "--out", str(tmp_path / "out")]) == 2
+        assert message in capsys.readouterr().err

@@ -15,6 +15,7 @@ from typing import IO, Any
 import numpy as np
 
 from .pipeline import FrameResult
+from .sources import SkippedFrame
 
 SCHEMA = "torsocast.frame/1"
 
@@ -97,6 +98,18 @@ class JsonLines:
     def write(self, result: FrameResult) -> None:
         assert self.file is not None, "use JsonLines as a context manager"
         self.file.write(json.dumps(record(result, self.horizons), allow_nan=False) + "\n")
+
+    def skipped(self, frame: SkippedFrame) -> None:
+        """The line of a frame the source could not read: no people, and why."""
+        assert self.file is not None, "use JsonLines as a context manager"
+        line = {
+            "schema": SCHEMA,
+            "frame": frame.index,
+            "time": frame.time,
+            "people": [],
+            "skipped": frame.reason,
+        }
+        self.file.write(json.dumps(line, allow_nan=False) + "\n")
 
     def __exit__(self, *exc: object) -> None:
         if self.file is not None:

@@ -17,7 +17,7 @@ from .output import JsonLines
 from .overlay import draw
 from .pipeline import BadFrameError, FrameResult, Pipeline
 from .progress import Progress
-from .sources import Source
+from .sources import SkippedFrame, Source
 
 
 @dataclass
@@ -30,6 +30,8 @@ class Summary:
     out: Path
     rejected: int = 0
     """Frames left out: their time stamp did not increase, or the model's output was unusable."""
+    unreadable: int = 0
+    """Frames the source could not read (corrupt or missing files): reported and skipped."""
 
     @property
     def fps(self) -> float:
@@ -42,6 +44,8 @@ class Summary:
             if self.rejected
             else ""
         )
+        if self.unreadable:
+            rejected += f" ({self.unreadable} unreadable, skipped)"
         return (
             f"{self.frames} frames{rejected} in {self.seconds:.1f} s ({self.fps:.1f} frames/s), "
             f"{self.people} tracked people; per frame: {stages}"
@@ -67,13 +71,18 @@ def run(
     pipeline = Pipeline(model, horizons)
     bar = Progress(len(source), f"run {source.name}") if progress and len(source) else None
     ids: set[int] = set()
-    rejected = 0
+    rejected = unreadable = 0
     start = time.perf_counter()
     movie = AviWriter(out / "overlay.avi") if video else None
     if overlay:
         (out / "overlay").mkdir(parents=True, exist_ok=True)
     with JsonLines(out / "frames.jsonl", horizons) as jsonl, movie or nullcontext():
         for frame in source:
+            if isinstance(frame, SkippedFrame):
+                print(f"frame {frame.index} skipped: {frame.reason}", file=sys.stderr)
+                unreadable += 1
+                jsonl.skipped(frame)
+                continue
             try:
                 result = pipeline(frame)
             except (TimeNotIncreasingError, BadFrameError) as e:
@@ -94,4 +103,4 @@ def run(
             if bar:
                 bar(f"{len(result.detections)} people")
     seconds = time.perf_counter() - start
-    return Summary(pipeline.frames, seconds, pipeline.timing(), len(ids), out, rejected)
+    return Summary(pipeline.frames, seconds, pipeline.timing(), len(ids), out, rejected, unreadable)

@@ -67,7 +67,11 @@ def session(path: str | Path, device: str = "cpu"):  # type: ignore[no-untyped-d
         raise ValueError(f"device must be 'cpu' or 'cuda', got {device!r}")
     options = ort.SessionOptions()
     options.log_severity_level = 3  # the int8 MoveNet file warns about unused initialisers
-    return ort.InferenceSession(str(path), options, providers=providers)
+    try:
+        return ort.InferenceSession(str(path), options, providers=providers)
+    except Exception as e:  # onnxruntime's errors share no base class of their own
+        reason = str(e).splitlines()[0] if str(e) else type(e).__name__
+        raise ValueError(f"{path}: not a model onnxruntime can load ({reason})") from e
 
 
 def recognise(sess) -> str:  # type: ignore[no-untyped-def]

@@ -6,7 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from .folder import CameraXmlFolder, TumFolder
-from .frame import Frame, Source
+from .frame import Frame, SkippedFrame, Source
 from .recording import NpzRecording
 from .video import VideoFile
 
@@ -34,4 +34,13 @@ def open_source(path: str | Path, fps: float = 30.0) -> Source:
     )
 
 
-__all__ = ["CameraXmlFolder", "Frame", "NpzRecording", "Source", "TumFolder", "VideoFile", "open_source"]
+__all__ = [
+    "CameraXmlFolder",
+    "Frame",
+    "NpzRecording",
+    "SkippedFrame",
+    "Source",
+    "TumFolder",
+    "VideoFile",
+    "open_source",
+]

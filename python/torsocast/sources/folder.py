@@ -21,7 +21,7 @@ import numpy as np
 from PIL import Image
 
 from ..camera import Camera, Intrinsics, level_camera
-from .frame import Frame, check_increasing, depth_in_metres
+from .frame import READ_ERRORS, Frame, SkippedFrame, check_increasing, depth_in_metres
 
 #: TUM's depth PNGs hold 5000 units per metre.
 TUM_DEPTH_SCALE = 1.0 / 5000.0
@@ -69,9 +69,14 @@ class CameraXmlFolder:
         self.name = str(self.root)
         if not fps > 0:
             raise ValueError(f"fps must be positive, got {fps}")
-        self.stems = sorted(p.name[: -len("_camera.xml")] for p in self.root.glob("*_camera.xml"))
-        if not self.stems:
+        # Every frame with any of its three files: one missing file skips its frame (reported)
+        # without moving the later frames' time stamps.
+        cameras = {p.name[: -len("_camera.xml")] for p in self.root.glob("*_camera.xml")}
+        if not cameras:
             raise FileNotFoundError(f"{self.root}: no NNNN_camera.xml files")
+        colours = {p.stem for p in self.root.glob("*.jpg")} | {p.stem for p in self.root.glob("*.png")}
+        depths = {p.name[: -len("_depth.png")] for p in self.root.glob("*_depth.png")}
+        self.stems = sorted(cameras | depths | (colours - {f"{d}_depth" for d in depths}))
         self.fps = fps
         self.camera_to_world = level_camera() if camera_to_world is None else camera_to_world
 
@@ -84,26 +89,32 @@ class CameraXmlFolder:
                 return path
         raise FileNotFoundError(f"{self.root}: no colour image {stem}.jpg or {stem}.png")
 
-    def __iter__(self) -> Iterator[Frame]:
+    def __iter__(self) -> Iterator[Frame | SkippedFrame]:
         for index, stem in enumerate(self.stems):
-            root = ET.parse(self.root / f"{stem}_camera.xml").getroot()
-            k = opencv_matrix(root, "intrinsic")
-            if k is None:
-                raise ValueError(f"{stem}_camera.xml has no 'intrinsic' matrix")
-            distortion = opencv_matrix(root, "distortion")
-            intrinsics = Intrinsics(
-                k[0, 0], k[1, 1], k[0, 2], k[1, 2], () if distortion is None else tuple(distortion.ravel())
-            )
-            depth = depth_in_metres(read_depth_png(self.root / f"{stem}_depth.png"), 0.001)
-            extra = {name: m for name in ("R", "t") if (m := opencv_matrix(root, name)) is not None}
-            yield Frame(
-                index,
-                index / self.fps,
-                read_rgb(self.color_path(stem)),
-                depth,
-                Camera(intrinsics, self.camera_to_world),
-                extra,
-            )
+            try:
+                yield self.read(index, stem)
+            except READ_ERRORS as e:
+                yield SkippedFrame(index, index / self.fps, f"{stem}: {e}")
+
+    def read(self, index: int, stem: str) -> Frame:
+        root = ET.parse(self.root / f"{stem}_camera.xml").getroot()
+        k = opencv_matrix(root, "intrinsic")
+        if k is None:
+            raise ValueError(f"{stem}_camera.xml has no 'intrinsic' matrix")
+        distortion = opencv_matrix(root, "distortion")
+        intrinsics = Intrinsics(
+            k[0, 0], k[1, 1], k[0, 2], k[1, 2], () if distortion is None else tuple(distortion.ravel())
+        )
+        depth = depth_in_metres(read_depth_png(self.root / f"{stem}_depth.png"), 0.001)
+        extra = {name: m for name in ("R", "t") if (m := opencv_matrix(root, name)) is not None}
+        return Frame(
+            index,
+            index / self.fps,
+            read_rgb(self.color_path(stem)),
+            depth,
+            Camera(intrinsics, self.camera_to_world),
+            extra,
+        )
 
 
 def read_tum_list(path: Path) -> tuple[np.ndarray, list[str]]:
@@ -147,12 +158,15 @@ class TumFolder:
     def __len__(self) -> int:
         return len(self.pairs)
 
-    def __iter__(self) -> Iterator[Frame]:
+    def __iter__(self) -> Iterator[Frame | SkippedFrame]:
         for index, (time, rgb, depth) in enumerate(self.pairs):
-            yield Frame(
-                index,
-                float(time),
-                read_rgb(self.root / rgb),
-                depth_in_metres(read_depth_png(self.root / depth), TUM_DEPTH_SCALE),
-                self.camera,
-            )
+            try:
+                yield Frame(
+                    index,
+                    float(time),
+                    read_rgb(self.root / rgb),
+                    depth_in_metres(read_depth_png(self.root / depth), TUM_DEPTH_SCALE),
+                    self.camera,
+                )
+            except READ_ERRORS as e:
+                yield SkippedFrame(index, float(time), f"{rgb} / {depth}: {e}")

@@ -8,6 +8,7 @@ from typing import Any, Protocol
 
 import numpy as np
 import numpy.typing as npt
+from PIL import Image
 
 from ..camera import Camera
 
@@ -30,6 +31,21 @@ class Frame:
     """Source-specific data, e.g. a ground-truth pose."""
 
 
+@dataclass(frozen=True)
+class SkippedFrame:
+    """A frame a source could not read (a corrupt or missing file): yielded in its place, so
+    that a stream goes on past it and the run reports it."""
+
+    index: int
+    time: float | None
+    reason: str
+
+
+#: What reading one frame's files can raise: missing or unreadable files, images that are not
+#: images or too large to decode, broken XML, numbers that do not parse.
+READ_ERRORS = (OSError, ValueError, SyntaxError, EOFError, Image.DecompressionBombError)
+
+
 class Source(Protocol):
     """Anything that yields frames in time order. A live sensor adapter implements the same two
     members (see ``docs/sources.md``)."""
@@ -40,7 +56,7 @@ class Source(Protocol):
         """Number of frames, or 0 when unknown (a live stream)."""
         ...
 
-    def __iter__(self) -> Iterator[Frame]: ...
+    def __iter__(self) -> Iterator[Frame | SkippedFrame]: ...
 
 
 def depth_in_metres(raw: npt.NDArray[Any], scale: float) -> npt.NDArray[np.float32]:

@@ -8,6 +8,7 @@ Arrays (``T`` frames): ``color (T, h, w, 3) uint8`` RGB, ``depth (T, h, w)`` in 
 
 from __future__ import annotations
 
+import zipfile
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -24,8 +25,13 @@ class NpzRecording:
     def __init__(self, path: str | Path) -> None:
         self.path = Path(path)
         self.name = str(self.path)
-        self.data = np.load(self.path)
-        missing = [k for k in REQUIRED if k not in self.data.files]
+        try:
+            # Read every array now: a truncated file fails here, not in the middle of a run.
+            with np.load(self.path) as archive:
+                self.data = {name: archive[name] for name in archive.files}
+        except (OSError, EOFError, ValueError, zipfile.BadZipFile) as e:
+            raise ValueError(f"{self.path}: not a readable .npz recording ({e})") from e
+        missing = [k for k in REQUIRED if k not in self.data]
         if missing:
             raise ValueError(f"{self.path}: missing arrays {missing} (a recording needs {list(REQUIRED)})")
         color, depth, time = self.data["color"], self.data["depth"], self.data["time"]
@@ -40,9 +46,9 @@ class NpzRecording:
             )
         check_increasing(time.astype(np.float64), self.name)
         fx, fy, cx, cy = self.data["intrinsics"]
-        distortion = tuple(self.data["distortion"]) if "distortion" in self.data.files else ()
-        pose = self.data["camera_to_world"] if "camera_to_world" in self.data.files else level_camera()
-        scale = float(self.data["depth_scale"]) if "depth_scale" in self.data.files else 0.001
+        distortion = tuple(self.data["distortion"]) if "distortion" in self.data else ()
+        pose = self.data["camera_to_world"] if "camera_to_world" in self.data else level_camera()
+        scale = float(self.data["depth_scale"]) if "depth_scale" in self.data else 0.001
         self.camera = Camera(Intrinsics(fx, fy, cx, cy, distortion), pose, scale)
 
     def __len__(self) -> int:
