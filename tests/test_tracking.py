@@ -264,3 +264,41 @@ def test_a_refused_frame_leaves_the_tracker_as_it_was():
             tracker.update(t, j, s, camera)
         assert tracker.last_t is None and not tracker.slots
     assert len(tracker.update(0.0, *good)) == 1
+
+
+def test_linear_assignment_matches_scipy(rng):
+    from scipy.optimize import linear_sum_assignment
+
+    for rows, cols in [(1, 1), (3, 5), (5, 3), (6, 6), (20, 17), (50, 50)]:
+        cost = rng.uniform(0.0, 3.0, size=(rows, cols))
+        cost[rng.random(cost.shape) < 0.3] = 1e6  # pairs beyond the gate, as the tracker passes them
+        r, c = tc.linear_assignment(cost)
+        want_r, want_c = linear_sum_assignment(cost)
+        assert len(r) == len(want_r) == min(rows, cols)
+        assert cost[r, c].sum() == pytest.approx(cost[want_r, want_c].sum(), rel=1e-12)
+        assert (np.diff(r) > 0).all() and len(set(c.tolist())) == len(c)
+    with pytest.raises(tc.NonFiniteError, match="cost"):
+        tc.linear_assignment(np.array([[1.0, np.nan]]))
+
+
+def test_the_runtime_and_a_full_run_need_no_scipy(tmp_path):
+    import subprocess
+    import sys
+
+    from conftest import shared_path
+
+    turntable = shared_path("data", "rgbd", "turntable")
+    code = f"""
+import importlib.abc, sys
+class NoScipy(importlib.abc.MetaPathFinder):
+    def find_spec(self, name, path, target=None):
+        if name == "scipy" or name.startswith("scipy."):
+            raise ImportError("SciPy is not installed here")
+sys.meta_path.insert(0, NoScipy())
+import torsocast
+from torsocast.cli import main
+sys.exit(main(["run", {str(turntable)!r}, "--out", {str(tmp_path / "out")!r}]))
+"""
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert "100 frames" in done.stdout and (tmp_path / "out" / "frames.jsonl").is_file()

@@ -185,6 +185,9 @@ class Forecaster:
 def forecast_batch(
     histories: _ArrayLike, horizons: Sequence[float], config: ForecasterConfig | None = None
 ) -> _F64: ...
+def linear_assignment(cost: _ArrayLike) -> tuple[npt.NDArray[np.uintp], npt.NDArray[np.uintp]]:
+    """The pairs (rows, cols) that minimise the summed cost, every row or every column used once,
+    rows increasing (as scipy.optimize.linear_sum_assignment)."""
 
 @final
 class Person:

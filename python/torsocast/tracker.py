@@ -1,10 +1,11 @@
 """Multi-person tracking: detections to tracks by their 3D torso centres.
 
 Each frame, the cost of giving detection j to track i is the distance between the track's last
-torso centre and the detection's; the optimal assignment (Hungarian, SciPy) is taken, and pairs
-further apart than ``gate`` are refused. An unmatched detection opens a tentative track, which is
-confirmed (and given the next integer id) after ``min_hits`` matched frames; a track unmatched
-for ``max_missing`` seconds is dropped (a tentative one at its first miss).
+torso centre and the detection's; the optimal assignment (Hungarian, ``torso_core::assignment``)
+is taken, and pairs further apart than ``gate`` are refused. An unmatched detection opens a
+tentative track, which is confirmed (and given the next integer id) after ``min_hits`` matched
+frames; a track unmatched for ``max_missing`` seconds is dropped (a tentative one at its first
+miss).
 """
 
 from __future__ import annotations
@@ -13,9 +14,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import numpy.typing as npt
-from scipy.optimize import linear_sum_assignment
 
-from ._core import InvalidArgumentError, NonFiniteError, ShapeError, TimeNotIncreasingError
+from ._core import InvalidArgumentError, NonFiniteError, ShapeError, TimeNotIncreasingError, linear_assignment
 from .keypoints import coco
 from .track import F64, Observation, Track, TrackConfig
 
@@ -132,7 +132,7 @@ class Tracker:
             return []
         tracks = np.array([s.centre for s in self.slots])
         cost = np.linalg.norm(tracks[:, None, :] - centres[None, :, :], axis=2)
-        rows, cols = linear_sum_assignment(np.where(cost <= self.config.gate, cost, 1e6))
+        rows, cols = linear_assignment(np.where(cost <= self.config.gate, cost, 1e6))
         return [(self.slots[r], int(k)) for r, k in zip(rows, cols) if cost[r, k] <= self.config.gate]
 
     @property

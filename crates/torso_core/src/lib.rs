@@ -33,6 +33,7 @@
 // Index loops mirror the subscripts of the equations they implement.
 #![allow(clippy::needless_range_loop)]
 
+pub mod assignment;
 pub mod banded;
 pub mod bspline;
 pub mod butterworth;
@@ -47,6 +48,7 @@ pub mod selfcheck;
 pub mod sides;
 pub mod smoothing;
 
+pub use assignment::linear_assignment;
 pub use butterworth::{design_lowpass, LowPass, SosFilter, ZeroPhase};
 pub use error::{Error, Result};
 pub use forecaster::{

@@ -2,6 +2,7 @@
 //! error mapping live here; every computation is in the core crate.
 
 mod arrays;
+mod assignment;
 mod errors;
 mod filter;
 mod forecaster;
@@ -28,6 +29,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<forecaster::ForecasterConfig>()?;
     m.add_class::<forecaster::Forecaster>()?;
     m.add_function(wrap_pyfunction!(forecaster::forecast_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(assignment::linear_assignment, m)?)?;
     m.add_class::<person::Person>()?;
     m.add_class::<person::Observation>()?;
     m.add("MAX_DEGREE", torso_core::bspline::MAX_DEGREE)?;

@@ -1,0 +1,188 @@
+//! The optimal assignment of detections to tracks: the rectangular linear sum assignment
+//! problem (as SciPy's `linear_sum_assignment`), by the Hungarian method with potentials
+//! (shortest augmenting paths, O(n² m) for n ≤ m).
+
+use crate::error::{Error, Result};
+
+/// Pairs `(row, column)` that minimise the summed `cost[row * cols + column]` with every row or
+/// every column used once (whichever there are fewer of), rows increasing. Costs must be finite.
+pub fn linear_assignment(cost: &[f64], rows: usize, cols: usize) -> Result<Vec<(usize, usize)>> {
+    if cost.len() != rows * cols {
+        return Err(Error::LengthMismatch {
+            name: "cost",
+            expected: rows * cols,
+            got: cost.len(),
+        });
+    }
+    if let Some(index) = cost.iter().position(|c| !c.is_finite()) {
+        return Err(Error::NonFinite {
+            name: "cost",
+            index,
+        });
+    }
+    if rows == 0 || cols == 0 {
+        return Ok(Vec::new());
+    }
+    // The method assigns every row of an n x m problem with n <= m: transpose a tall one.
+    let transposed = rows > cols;
+    let (n, m) = if transposed {
+        (cols, rows)
+    } else {
+        (rows, cols)
+    };
+    let at = |i: usize, j: usize| {
+        if transposed {
+            cost[j * cols + i]
+        } else {
+            cost[i * cols + j]
+        }
+    };
+    // 1-based arrays as in the classic formulation; index 0 is the virtual start.
+    let mut u = vec![0.0; n + 1];
+    let mut v = vec![0.0; m + 1];
+    let mut owner = vec![0usize; m + 1]; // column -> row assigned to it (0: none)
+    let mut way = vec![0usize; m + 1];
+    let mut min_to = vec![0.0; m + 1];
+    let mut used = vec![false; m + 1];
+    for i in 1..=n {
+        owner[0] = i;
+        let mut j0 = 0;
+        min_to.fill(f64::INFINITY);
+        used.fill(false);
+        loop {
+            used[j0] = true;
+            let i0 = owner[j0];
+            let mut delta = f64::INFINITY;
+            let mut j1 = 0;
+            for j in 1..=m {
+                if !used[j] {
+                    let reduced = at(i0 - 1, j - 1) - u[i0] - v[j];
+                    if reduced < min_to[j] {
+                        min_to[j] = reduced;
+                        way[j] = j0;
+                    }
+                    if min_to[j] < delta {
+                        delta = min_to[j];
+                        j1 = j;
+                    }
+                }
+            }
+            for j in 0..=m {
+                if used[j] {
+                    u[owner[j]] += delta;
+                    v[j] -= delta;
+                } else {
+                    min_to[j] -= delta;
+                }
+            }
+            j0 = j1;
+            if owner[j0] == 0 {
+                break;
+            }
+        }
+        loop {
+            let j1 = way[j0];
+            owner[j0] = owner[j1];
+            j0 = j1;
+            if j0 == 0 {
+                break;
+            }
+        }
+    }
+    let mut pairs: Vec<(usize, usize)> = (1..=m)
+        .filter(|&j| owner[j] != 0)
+        .map(|j| {
+            let (i, j) = (owner[j] - 1, j - 1);
+            if transposed {
+                (j, i)
+            } else {
+                (i, j)
+            }
+        })
+        .collect();
+    pairs.sort_unstable();
+    Ok(pairs)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn total(cost: &[f64], cols: usize, pairs: &[(usize, usize)]) -> f64 {
+        pairs.iter().map(|&(i, j)| cost[i * cols + j]).sum()
+    }
+
+    /// Every assignment of min(rows, cols) pairs, for checking small problems by brute force.
+    fn best_by_enumeration(cost: &[f64], rows: usize, cols: usize) -> f64 {
+        fn go(
+            cost: &[f64],
+            rows: usize,
+            cols: usize,
+            i: usize,
+            used: &mut Vec<bool>,
+            left: usize,
+        ) -> f64 {
+            if left == 0 {
+                return 0.0;
+            }
+            if i == rows {
+                return f64::INFINITY;
+            }
+            // Row i takes a column, or (when rows outnumber what is left) none.
+            let mut best = if rows - i > left {
+                go(cost, rows, cols, i + 1, used, left)
+            } else {
+                f64::INFINITY
+            };
+            for j in 0..cols {
+                if !used[j] {
+                    used[j] = true;
+                    best =
+                        best.min(cost[i * cols + j] + go(cost, rows, cols, i + 1, used, left - 1));
+                    used[j] = false;
+                }
+            }
+            best
+        }
+        go(cost, rows, cols, 0, &mut vec![false; cols], rows.min(cols))
+    }
+
+    #[test]
+    fn small_problems_match_brute_force() {
+        let mut state = 12345u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for rows in 1..=5 {
+            for cols in 1..=5 {
+                for _ in 0..20 {
+                    let cost: Vec<f64> =
+                        (0..rows * cols).map(|_| (next() * 10.0).round()).collect();
+                    let pairs = linear_assignment(&cost, rows, cols).unwrap();
+                    assert_eq!(pairs.len(), rows.min(cols));
+                    let (mut r, mut c) = (vec![false; rows], vec![false; cols]);
+                    for &(i, j) in &pairs {
+                        assert!(!r[i] && !c[j]);
+                        r[i] = true;
+                        c[j] = true;
+                    }
+                    let want = best_by_enumeration(&cost, rows, cols);
+                    assert!(
+                        (total(&cost, cols, &pairs) - want).abs() < 1e-9,
+                        "{rows}x{cols} {cost:?}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn bad_costs_are_typed_errors_and_empty_problems_have_no_pairs() {
+        assert!(linear_assignment(&[1.0, f64::NAN], 1, 2).is_err());
+        assert!(linear_assignment(&[1.0, 2.0, 3.0], 2, 2).is_err());
+        assert!(linear_assignment(&[], 0, 3).unwrap().is_empty());
+    }
+}
