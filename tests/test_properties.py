@@ -1,0 +1,112 @@
+"""Property tests of the public entry points: any input gives either a typed error that leaves
+the object as it was, or a finite result (hypothesis draws the inputs, including NaN, infinity,
+huge and tiny values)."""
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import torsocast as tc
+
+#: Floats as a hostile caller sends them: NaN, infinities, huge and tiny magnitudes included.
+ANY_FLOAT = st.floats(allow_nan=True, allow_infinity=True, width=64)
+SETTINGS = settings(
+    max_examples=150, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow]
+)
+
+
+def walking(forecaster, n=30):
+    for k in range(n):
+        forecaster.update([0.04 * k, 0.1, 1.0, 0.02 * k, 1.5], k / 25, 1.0)
+
+
+@SETTINGS
+@given(pose=st.lists(ANY_FLOAT, min_size=5, max_size=5), t=ANY_FLOAT, weight=ANY_FLOAT)
+def test_a_forecaster_update_is_taken_whole_or_refused_whole(pose, t, weight):
+    f = tc.Forecaster(tc.ForecasterConfig.live())
+    walking(f)
+    before = (len(f), f.last_time, f.forecast([0.4, 1.0]).tobytes())
+    try:
+        f.update(pose, t, weight)
+    except tc.TorsocastError:
+        assert (len(f), f.last_time, f.forecast([0.4, 1.0]).tobytes()) == before
+        return
+    if len(f) >= f.min_samples:  # a long gap restarts the history with this one sample
+        assert np.isfinite(f.forecast([0.4, 1.0, 2.0])).all()
+
+
+@SETTINGS
+@given(horizons=st.lists(ANY_FLOAT, min_size=1, max_size=4))
+def test_a_forecast_is_finite_or_a_typed_error(horizons):
+    f = tc.Forecaster()
+    walking(f)
+    try:
+        out = f.forecast(horizons)
+    except tc.TorsocastError:
+        return
+    assert out.shape == (len(horizons), 5) and np.isfinite(out).all()
+
+
+@SETTINGS
+@given(
+    joints=st.lists(st.lists(ANY_FLOAT, min_size=3, max_size=3), min_size=17, max_size=17),
+    scores=st.lists(ANY_FLOAT, min_size=17, max_size=17),
+    t=ANY_FLOAT,
+)
+def test_a_person_takes_a_frame_whole_or_refuses_it_whole(joints, scores, t):
+    person = tc.Person()
+    rng = np.random.default_rng(0)
+    for k in range(10):
+        good = np.array([[2.0, -0.18, 1.4], [2.0, 0.18, 1.4], [2.0, -0.12, 0.9], [2.0, 0.12, 0.9]])
+        j = np.full((17, 3), np.nan)
+        j[[5, 6, 11, 12]] = good + rng.normal(0, 0.005, good.shape)
+        s = np.zeros(17)
+        s[[5, 6, 11, 12]] = 0.9
+        person.update(k / 25, j, s, [0.0, 0.0, 1.2])
+    before = (len(person), person.last_time, person.forecast([0.4]).tobytes())
+    try:
+        obs = person.update(t, joints, scores, [0.0, 0.0, 1.2])
+    except tc.TorsocastError:
+        assert (len(person), person.last_time, person.forecast([0.4]).tobytes()) == before
+        return
+    assert obs.pose is None or np.isfinite(obs.pose).all()
+    ahead = person.forecast([0.4, 1.0])
+    assert ahead is None or np.isfinite(ahead).all()
+    half = person.intervals([0.4])
+    assert half is None or (np.isfinite(half).all() and (half >= 0).all())
+
+
+@SETTINGS
+@given(
+    cost=st.integers(0, 6).flatmap(
+        lambda r: st.integers(0, 6).flatmap(
+            lambda c: st.lists(st.lists(ANY_FLOAT, min_size=c, max_size=c), min_size=r, max_size=r)
+        )
+    )
+)
+def test_an_assignment_is_one_to_one_and_optimal_or_a_typed_error(cost):
+    cost = np.array(cost, dtype=np.float64).reshape(len(cost), -1 if cost and cost[0] else 0)
+    try:
+        rows, cols = tc.linear_assignment(cost)
+    except tc.TorsocastError:
+        assert not np.isfinite(cost).all()
+        return
+    assert len(rows) == min(cost.shape) and len(set(cols.tolist())) == len(cols)
+
+
+@SETTINGS
+@given(points=st.lists(st.lists(ANY_FLOAT, min_size=3, max_size=3), min_size=1, max_size=6))
+def test_a_plane_fit_is_finite_or_a_typed_error(points):
+    sides = "LRLRCC"[: len(points)]
+    try:
+        plane = tc.fit_plane(np.array(points), sides=sides)
+    except tc.TorsocastError:
+        return
+    assert np.isfinite([plane.azimuth, plane.elevation, *plane.centre, *plane.normal]).all()
+
+
+@pytest.mark.parametrize("size", [0, -1, 10**12, 2**63])
+def test_sizes_from_callers_are_typed_errors(size):
+    with pytest.raises((tc.TorsocastError, OverflowError)):
+        tc.JointGate(size)
