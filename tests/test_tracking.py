@@ -203,6 +203,8 @@ def test_the_core_person_refuses_bad_shapes_and_values_without_changing_state():
         p.update(0.04, joints, scores, [np.nan, 0.0, 0.0])
     with pytest.raises(tc.InvalidArgumentError, match="facing_memory"):
         tc.Person(facing_memory=0.0)
+    with pytest.raises(tc.InvalidArgumentError, match="min_score"):
+        tc.Person(min_score=2.0)  # a score is a probability: 2 was accepted
     assert len(p) == 1 and p.last_time == 0.0
     obs = p.update(0.04, joints.astype(np.float32), scores.tolist(), (0, 0, 0))  # any array-like
     assert obs.estimate == "plane" and obs.grid == {"filled": 0, "restarted": False, "skipped": False}
