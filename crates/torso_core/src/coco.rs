@@ -22,8 +22,6 @@ pub const RIGHT_HIP: usize = 12;
 pub const TORSO: [usize; 4] = [LEFT_SHOULDER, RIGHT_SHOULDER, LEFT_HIP, RIGHT_HIP];
 /// Their sides of the body, for [`crate::fit_torso_plane`].
 pub const TORSO_SIDES: [Side; 4] = [Side::Left, Side::Right, Side::Left, Side::Right];
-/// Keypoints whose score says whether the face is seen.
-pub const FACE: [usize; 3] = [NOSE, LEFT_EYE, RIGHT_EYE];
 
 /// `(left, right)` index pairs: eyes, ears, shoulders, elbows, wrists, hips, knees, ankles.
 pub const LEFT_RIGHT_PAIRS: [(usize, usize); 8] = [

@@ -327,10 +327,10 @@ impl Forecaster {
         (i < self.history.len()).then(|| self.history.get(i))
     }
 
-    /// Turns the history's samples from time `t0` on to face the other way (see
-    /// [`Person`](crate::Person): a track that had the body's sides the wrong way round).
-    pub fn flip_since(&mut self, t0: f64) {
-        self.history.flip_since(t0);
+    /// Turns the whole history to face the other way (see [`Person`](crate::Person): a track
+    /// that had the body's sides the wrong way round).
+    pub fn flip(&mut self) {
+        self.history.flip();
     }
 
     /// Whether [`update`](Self::update) would take a finite sample at `t`: its time stamp maps

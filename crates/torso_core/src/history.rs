@@ -78,26 +78,13 @@ impl History {
         self.head = 0;
     }
 
-    /// Turns every sample from grid time `t0` on to face the other way: the torso normal is
-    /// negated, so the azimuth gains π and the elevation becomes π minus itself (the track had
-    /// the body's sides the wrong way round since `t0`). The azimuth stays continuous with the
-    /// samples before `t0`.
-    pub fn flip_since(&mut self, t0: f64) {
-        let first_slot = self.last_slot - self.len as i64 + 1;
+    /// Turns every sample to face the other way: the torso normal is negated, so the azimuth
+    /// gains π (staying unwrapped) and the elevation becomes π minus itself.
+    pub fn flip(&mut self) {
         for i in 0..self.len {
-            let slot_time = self.origin + (first_slot + i as i64) as f64 * self.step;
-            if slot_time < t0 - 0.5 * self.step {
-                continue;
-            }
             let k = (self.head + i) % self.capacity();
-            let mut pose = self.poses[k];
-            pose[AZIMUTH] += PI;
-            pose[ELEVATION] = PI - pose[ELEVATION];
-            if i > 0 {
-                let (before, _) = self.get(i - 1);
-                pose[AZIMUTH] = unwrap_near(pose[AZIMUTH], before[AZIMUTH]);
-            }
-            self.poses[k] = pose;
+            self.poses[k][AZIMUTH] += PI;
+            self.poses[k][ELEVATION] = PI - self.poses[k][ELEVATION];
         }
     }
 

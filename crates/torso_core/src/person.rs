@@ -400,11 +400,11 @@ impl Person {
         let Some(check) = &self.check else {
             return Ok(false);
         };
-        if horizons.iter().any(|&h| check.spread(h).is_none()) {
+        if !horizons.iter().all(|&h| check.has_spread(h)) {
             return Ok(false);
         }
         for (h, o) in horizons.iter().zip(out.iter_mut()) {
-            let spread = check.spread(*h).expect("checked above");
+            let spread = check.spread(*h).expect("has_spread said so");
             *o = spread.map(|v| INTERVAL_80 * v);
         }
         Ok(true)
@@ -452,7 +452,7 @@ impl Person {
             pose[AZIMUTH] += PI;
             pose[ELEVATION] = PI - pose[ELEVATION];
         }
-        self.forecaster.flip_since(f64::NEG_INFINITY);
+        self.forecaster.flip();
         if let Some(check) = self.check.as_mut() {
             check.drop_pending();
         }

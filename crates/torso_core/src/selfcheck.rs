@@ -123,15 +123,13 @@ impl SelfCheck {
     /// [`UNCHECKED`].
     pub fn weights(&self, horizon: f64) -> [[f64; CANDIDATES]; 5] {
         let nearest = self.nearest(horizon);
-        if self.scored[nearest] >= MIN_SCORED {
-            return std::array::from_fn(|c| {
-                convex_min_variance(&self.sums[nearest][c], allowed(c))
-            });
-        }
-        // Not yet checked this far: a shorter check's weights serve; for the angles, its trust
-        // in a trend goes to the damped one, which fades with the horizon (a turn does not go on
-        // for ever; a walk mostly does).
-        match (0..nearest).rev().find(|&k| self.scored[k] >= MIN_SCORED) {
+        match self.checked(horizon) {
+            Some(k) if k == nearest => {
+                std::array::from_fn(|c| convex_min_variance(&self.sums[k][c], allowed(c)))
+            }
+            // Not yet checked this far: a shorter check's weights serve; for the angles, its
+            // trust in a trend goes to the damped one, which fades with the horizon (a turn does
+            // not go on for ever; a walk mostly does).
             Some(k) => std::array::from_fn(|c| {
                 let [hold, damped, plain, velocity] =
                     convex_min_variance(&self.sums[k][c], allowed(c));
@@ -151,12 +149,9 @@ impl SelfCheck {
     /// has been scored a few times. The scores are against the track's own later estimates, so
     /// the spread holds their noise as well as the forecast's.
     pub fn spread(&self, horizon: f64) -> Option<[f64; 5]> {
-        let nearest = self.nearest(horizon);
-        let k = (0..=nearest)
-            .rev()
-            .find(|&k| self.scored[k] >= MIN_SCORED)?;
+        let k = self.checked(horizon)?;
         let w = self.weights(horizon);
-        let growth = if k == nearest {
+        let growth = if k == self.nearest(horizon) {
             1.0
         } else {
             (horizon / HORIZONS[k]).max(1.0).sqrt()
@@ -164,6 +159,19 @@ impl SelfCheck {
         Some(std::array::from_fn(|c| {
             growth * (quadratic(&self.sums[k][c], &w[c]).max(0.0) / self.scored[k]).sqrt()
         }))
+    }
+
+    /// Whether [`spread`](Self::spread) has an answer for `horizon` (without computing it).
+    pub fn has_spread(&self, horizon: f64) -> bool {
+        self.checked(horizon).is_some()
+    }
+
+    /// The checked horizon whose scores serve `horizon`: the nearest one once it has been
+    /// scored a few times, else the longest shorter one that has; `None` before any has.
+    fn checked(&self, horizon: f64) -> Option<usize> {
+        (0..=self.nearest(horizon))
+            .rev()
+            .find(|&k| self.scored[k] >= MIN_SCORED)
     }
 
     fn nearest(&self, horizon: f64) -> usize {

@@ -136,14 +136,6 @@ impl Facing {
             heading,
         }
     }
-
-    /// The current heading's opposite becomes the heading (the track's sides were reversed
-    /// from outside).
-    pub fn reverse(&mut self) {
-        if let Some(h) = self.heading.as_mut() {
-            *h += PI;
-        }
-    }
 }
 
 /// Horizontal direction (azimuth) from the shoulders' midpoint to the nose, where the nose and
