@@ -112,13 +112,7 @@ def _eval_h36m(args: argparse.Namespace) -> int:
     for line in result["left_out"]:
         print(f"left out {line}", file=sys.stderr)
     print(report.markdown(result))
-    try:
-        import matplotlib  # noqa: F401
-
-        draw = True
-    except ImportError:
-        draw = False
-        print("figures skipped: matplotlib is not installed (pip install 'torsocast[eval]')", file=sys.stderr)
+    draw = _can_draw()
     written = report.write(result, args.out, draw=draw)
     print(f"wrote {', '.join(str(p) for p in written)}", file=sys.stderr)
     return 0
@@ -152,13 +146,7 @@ def _eval_scenes(args: argparse.Namespace) -> int:
     bench = evaluate(
         catalogue, models, args.seed, args.quick, size, cache=Path(args.cache) if args.cache else None
     )
-    try:
-        import matplotlib  # noqa: F401
-
-        draw = True
-    except ImportError:
-        draw = False
-        print("figures skipped: matplotlib is not installed (pip install 'torsocast[eval]')", file=sys.stderr)
+    draw = _can_draw()
     text, written = report.write(bench, args.out, draw=draw)
     print(text)
     print(f"wrote {', '.join(str(p) for p in written)}", file=sys.stderr)
@@ -216,6 +204,16 @@ def _demo(args: argparse.Namespace) -> int:
         return 2
     print(result)
     return 0
+
+
+def _can_draw() -> bool:
+    """Whether the evaluations can draw their figures (matplotlib is an optional extra)."""
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        print("figures skipped: matplotlib is not installed (pip install 'torsocast[eval]')", file=sys.stderr)
+        return False
+    return True
 
 
 def _horizons(text: str, positive: bool = True) -> list[float] | None:

@@ -17,10 +17,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ...datasets import h36m
+from ...datasets import cmu, h36m
 from ...synthetic.mannequin import random_outfit
 from ...synthetic.motions import Motion, cmu_motion, h36m_category, h36m_motion
-from ...synthetic.scenes import Actor, SceneSpec, yaw_matrix
+from ...synthetic.scenes import Actor, SceneSpec
 from ...synthetic.sensor import SENSORS
 
 SPLITS = ("dev", "report")
@@ -147,13 +147,8 @@ def _pelvis_path(actor: Actor, motion: Motion, times: np.ndarray) -> np.ndarray:
     """The actor's pelvis on the floor at scene ``times``, NaN where it is not in the scene."""
     k = np.rint((times + actor.start) * motion.rate_hz).astype(int)
     ok = (k >= 0) & (k < len(motion.joints))
-    pivot_k = int(round(np.clip(actor.anchor, 0.0, motion.duration) * motion.rate_hz))
-    pivot = motion.joints[pivot_k, 0, :2]
-    xy = (motion.joints[np.clip(k, 0, len(motion.joints) - 1), 0, :2] - pivot) @ yaw_matrix(actor.yaw)[
-        :2, :2
-    ].T
-    xy = xy + actor.position
-    return np.where(ok[:, None], xy, np.nan)
+    pelvis = actor.place(motion)[np.clip(k, 0, len(motion.joints) - 1), cmu.PELVIS, :2]
+    return np.where(ok[:, None], pelvis, np.nan)
 
 
 def draw_scene(

@@ -4,7 +4,6 @@ model, scored against the truth."""
 from __future__ import annotations
 
 import hashlib
-import os
 import time
 from collections import defaultdict
 from collections.abc import Sequence
@@ -37,9 +36,10 @@ class Models:
 
     @classmethod
     def open(cls, yolo: str | Path | None) -> Models:
-        path = yolo or os.environ.get(YOLO_ENV)
-        multi = open_model(path) if path else None
-        return cls(open_model(None), multi, Path(path).name if path else "")
+        """The bundled MoveNet and the YOLO-pose file ``yolo`` (None: no multi-person model;
+        the command line resolves ``--yolo``, ``$TORSOCAST_YOLO`` and its default)."""
+        multi = open_model(yolo) if yolo else None
+        return cls(open_model(None), multi, Path(yolo).name if yolo else "")
 
 
 @dataclass
