@@ -287,8 +287,7 @@ impl Person {
         let mut completed = self.complete_occluded(&mut joints, camera_position);
         let mut decision = Decision::default();
         if let Some((labelled, centre)) = labelled_heading(&joints) {
-            let seen = std::array::from_fn(|i| finite(&joints[i]));
-            let nose = nose_direction(&joints, &seen);
+            let nose = nose_direction(&joints);
             decision = self
                 .facing
                 .decide(t, labelled, centre, nose, &self.config.facing);

@@ -13,7 +13,7 @@
 //! When the weighed evidence turns against the heading, the track turns round: the heading and
 //! everything the track remembers of the body's sides are reversed.
 
-use crate::coco::{self, Joints, N_JOINTS};
+use crate::coco::{self, Joints};
 use std::f64::consts::PI;
 
 /// A nose less than this (m) in front of the shoulders' midpoint, horizontally, says nothing.
@@ -139,10 +139,13 @@ impl Facing {
 }
 
 /// Horizontal direction (azimuth) from the shoulders' midpoint to the nose, where the nose and
-/// both shoulders are seen and the nose stands out at least `MIN_NOSE_OFFSET`.
-pub fn nose_direction(joints: &Joints, seen: &[bool; N_JOINTS]) -> Option<f64> {
+/// both shoulders are seen (finite) and the nose stands out at least `MIN_NOSE_OFFSET`.
+pub fn nose_direction(joints: &Joints) -> Option<f64> {
     let [n, l, r] = [coco::NOSE, coco::LEFT_SHOULDER, coco::RIGHT_SHOULDER];
-    if !(seen[n] && seen[l] && seen[r]) {
+    if ![n, l, r]
+        .iter()
+        .all(|&i| joints[i].iter().all(|v| v.is_finite()))
+    {
         return None;
     }
     let dx = joints[n][0] - 0.5 * (joints[l][0] + joints[r][0]);
@@ -153,6 +156,7 @@ pub fn nose_direction(joints: &Joints, seen: &[bool; N_JOINTS]) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::coco::N_JOINTS;
 
     fn error(a: f64, b: f64) -> f64 {
         crate::person::wrap_angle(a - b).abs()
@@ -213,17 +217,13 @@ mod tests {
     #[test]
     fn the_nose_direction_is_horizontal_and_needs_an_offset() {
         let mut joints = [[f64::NAN; 3]; N_JOINTS];
-        let mut seen = [false; N_JOINTS];
         joints[coco::LEFT_SHOULDER] = [2.0, -0.18, 1.4];
         joints[coco::RIGHT_SHOULDER] = [2.0, 0.18, 1.4];
         joints[coco::NOSE] = [1.9, 0.0, 1.65];
-        for i in [coco::NOSE, coco::LEFT_SHOULDER, coco::RIGHT_SHOULDER] {
-            seen[i] = true;
-        }
-        assert!(error(nose_direction(&joints, &seen).unwrap(), PI) < 1e-12);
+        assert!(error(nose_direction(&joints).unwrap(), PI) < 1e-12);
         joints[coco::NOSE] = [1.99, 0.0, 1.65];
-        assert_eq!(nose_direction(&joints, &seen), None);
-        seen[coco::NOSE] = false;
-        assert_eq!(nose_direction(&joints, &seen), None);
+        assert_eq!(nose_direction(&joints), None);
+        joints[coco::NOSE] = [f64::NAN; 3]; // not seen
+        assert_eq!(nose_direction(&joints), None);
     }
 }
