@@ -28,7 +28,7 @@ MIN_VOTES = 3
 METHODS = ("forecast", "hold", "velocity", "truth")
 COMPONENTS = ("centre", "azimuth", "elevation")
 #: The pose's components, each with its own 80 % interval.
-AXES = ("x", "y", "z", "azimuth", "elevation")
+POSE_COMPONENTS = ("x", "y", "z", "azimuth", "elevation")
 #: Seconds a person must stay in view after their track ends for the track to count as lost.
 LOST_AFTER = 1.0
 
@@ -135,7 +135,7 @@ class Scorer:
             r["estimated"].append(pose is not None)
             err = np.abs(pose - truth[actor]) if pose is not None else np.full(5, np.nan)
             err[3] = abs(float(wrap_angle(err[3])))
-            for name, value in zip(("x", "y", "z", "azimuth", "elevation"), err):
+            for name, value in zip(POSE_COMPONENTS, err):
                 r[name].append(float(value))
             track_id = person.track_id if person is not None else None
             self.seen_ids[actor].append((t, track_id))
@@ -150,7 +150,7 @@ class Scorer:
         if velocity is not None and len(velocity) >= velocity.min_samples:
             cv = velocity.forecast(self.horizons)
         now = self.scene.truth_at(actor, origin)
-        for h, predicted, k in zip(self.horizons, ahead, range(len(self.horizons))):
+        for k, (h, predicted) in enumerate(zip(self.horizons, ahead)):
             then = self.scene.truth_at(actor, origin + h)
             if not np.isfinite(then).all() or not np.isfinite(now).all() or cv is None:
                 continue
@@ -162,7 +162,9 @@ class Scorer:
                     f[f"{method}_{component}"].append(e)
             miss = np.abs(predicted - then)
             miss[3] = abs(float(wrap_angle(miss[3])))
-            for axis, m, half in zip(AXES, miss, spread[k] if spread is not None else [np.nan] * 5):
+            for axis, m, half in zip(
+                POSE_COMPONENTS, miss, spread[k] if spread is not None else [np.nan] * 5
+            ):
                 f[f"miss_{axis}"].append(float(m))
                 f[f"half_width_{axis}"].append(float(half))
 

@@ -15,6 +15,8 @@ Columns = dict[str, np.ndarray]
 #: Azimuth error beyond which an estimate is a front/back flip (degrees).
 FLIP_DEG = 90.0
 DISTANCE_EDGES = (1.0, 2.0, 3.0, 4.0)
+#: The bins the edges make, nearest first.
+DISTANCE_LABELS = ("under 1 m", "1-2 m", "2-3 m", "3-4 m", "4 m and more")
 #: Conditions the tables are split by, in report order.
 AXES = ("view", "distance", "people", "category", "fps")
 #: Conditions whose every cell the forecast must not lose to holding still (issue's target).
@@ -36,8 +38,8 @@ def view_bin(degrees: np.ndarray) -> np.ndarray:
 
 
 def distance_bin(metres: np.ndarray) -> np.ndarray:
-    labels = ["under 1 m", "1-2 m", "2-3 m", "3-4 m", "4 m and more"]
-    return np.asarray(labels, dtype=object)[np.searchsorted(DISTANCE_EDGES, metres, side="right")]  # type: ignore[no-any-return]
+    bins = np.searchsorted(DISTANCE_EDGES, metres, side="right")
+    return np.asarray(DISTANCE_LABELS, dtype=object)[bins]  # type: ignore[no-any-return]
 
 
 def condition(cols: Columns, axis: str) -> np.ndarray:
@@ -53,7 +55,7 @@ def _order(axis: str, values: np.ndarray) -> list[Any]:
     if axis == "view":
         return sorted(unique, key=lambda v: (v < 0, abs(v)))  # 0, 45, 90, 135, 180, -135 ...
     if axis == "distance":
-        return [v for v in ("under 1 m", "1-2 m", "2-3 m", "3-4 m", "4 m and more") if v in unique]
+        return [v for v in DISTANCE_LABELS if v in unique]
     return sorted(unique)
 
 
