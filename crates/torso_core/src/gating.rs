@@ -151,6 +151,22 @@ mod tests {
     use JointStatus::*;
 
     #[test]
+    fn swapping_exchanges_two_joints_memories_and_refuses_indices_out_of_range() {
+        let mut gate = JointGate::new(2, GateConfig::default()).unwrap();
+        let mut joints = [[0.0, 0.0, 1.0], [1.0, 0.0, 1.0]];
+        let mut status = [Lost; 2];
+        gate.update(&mut joints, &mut status).unwrap();
+        let before = format!("{gate:?}");
+        assert!(gate.swap(0, 2).is_err() && gate.swap(5, 1).is_err());
+        assert_eq!(format!("{gate:?}"), before);
+        gate.swap(0, 1).unwrap();
+        // The joints in their exchanged places are where the gate now expects them.
+        let mut swapped = [[1.0, 0.0, 1.0], [0.0, 0.0, 1.0]];
+        gate.update(&mut swapped, &mut status).unwrap();
+        assert_eq!(status, [Measured, Measured]);
+    }
+
+    #[test]
     fn jumps_and_gaps_are_replaced_then_lost_then_reacquired() {
         let mut gate = JointGate::new(
             1,

@@ -265,3 +265,26 @@ fn damped_extrapolation_scales_the_tangent() {
         })
     ));
 }
+
+#[test]
+fn both_continuations_come_from_one_fit_and_bad_arguments_are_refused() {
+    let mut f = Forecaster::new(ForecasterConfig::default()).unwrap();
+    for k in 0..50 {
+        let t = k as f64 / 25.0;
+        f.update([t, 0.0, 1.0, 0.5 * t, 1.5], t, 1.0).unwrap();
+    }
+    let (mut damped, mut plain, mut alone) = ([[0.0; 5]; 2], [[0.0; 5]; 2], [[0.0; 5]; 2]);
+    f.forecast_both(&[0.4, 1.0], &mut damped, &mut plain)
+        .unwrap();
+    f.forecast(&[0.4, 1.0], &mut alone).unwrap();
+    assert_eq!(damped, alone);
+    // The plain continuation carries the 1 m/s in full; the damped one less.
+    assert!((plain[1][0] - (1.96 + 1.0)).abs() < 1e-6 && damped[1][0] < plain[1][0]);
+    let mut short = [[0.0; 5]; 1];
+    assert!(f
+        .forecast_both(&[0.4, 1.0], &mut damped, &mut short)
+        .is_err());
+    assert!(f
+        .forecast_both(&[0.4, -1.0], &mut damped, &mut plain)
+        .is_err());
+}
