@@ -7,101 +7,150 @@ use crate::error::{Error, Result};
 /// Pairs `(row, column)` that minimise the summed `cost[row * cols + column]` with every row or
 /// every column used once (whichever there are fewer of), rows increasing. Costs must be finite.
 pub fn linear_assignment(cost: &[f64], rows: usize, cols: usize) -> Result<Vec<(usize, usize)>> {
-    if cost.len() != rows * cols {
-        return Err(Error::LengthMismatch {
-            name: "cost",
-            expected: rows * cols,
-            got: cost.len(),
-        });
+    let mut solver = Assignment::default();
+    Ok(solver.solve(cost, rows, cols)?.to_vec())
+}
+
+/// The solver with its working memory, for callers that solve one problem per frame: buffers
+/// grow to the largest problem seen and are reused, so that a steady stream of problems no
+/// larger than that allocates nothing.
+#[derive(Clone, Debug, Default)]
+pub struct Assignment {
+    u: Vec<f64>,
+    v: Vec<f64>,
+    /// Column -> row assigned to it (0: none); 1-based as in the classic formulation.
+    owner: Vec<usize>,
+    way: Vec<usize>,
+    min_to: Vec<f64>,
+    used: Vec<bool>,
+    pairs: Vec<(usize, usize)>,
+}
+
+impl Assignment {
+    /// A solver with room for problems up to `rows` x `cols` (either way round).
+    pub fn with_capacity(rows: usize, cols: usize) -> Self {
+        let n = rows.max(cols) + 1;
+        Self {
+            u: Vec::with_capacity(n),
+            v: Vec::with_capacity(n),
+            owner: Vec::with_capacity(n),
+            way: Vec::with_capacity(n),
+            min_to: Vec::with_capacity(n),
+            used: Vec::with_capacity(n),
+            pairs: Vec::with_capacity(n),
+        }
     }
-    if let Some(index) = cost.iter().position(|c| !c.is_finite()) {
-        return Err(Error::NonFinite {
-            name: "cost",
-            index,
-        });
-    }
-    if rows == 0 || cols == 0 {
-        return Ok(Vec::new());
-    }
-    // The method assigns every row of an n x m problem with n <= m: transpose a tall one.
-    let transposed = rows > cols;
-    let (n, m) = if transposed {
-        (cols, rows)
-    } else {
-        (rows, cols)
-    };
-    let at = |i: usize, j: usize| {
-        if transposed {
-            cost[j * cols + i]
+
+    /// As [`linear_assignment`], borrowing the pairs from the solver.
+    pub fn solve(&mut self, cost: &[f64], rows: usize, cols: usize) -> Result<&[(usize, usize)]> {
+        if cost.len() != rows.saturating_mul(cols) {
+            return Err(Error::LengthMismatch {
+                name: "cost",
+                expected: rows.saturating_mul(cols),
+                got: cost.len(),
+            });
+        }
+        if let Some(index) = cost.iter().position(|c| !c.is_finite()) {
+            return Err(Error::NonFinite {
+                name: "cost",
+                index,
+            });
+        }
+        self.pairs.clear();
+        if rows == 0 || cols == 0 {
+            return Ok(&self.pairs);
+        }
+        // The method assigns every row of an n x m problem with n <= m: transpose a tall one.
+        let transposed = rows > cols;
+        let (n, m) = if transposed {
+            (cols, rows)
         } else {
-            cost[i * cols + j]
-        }
-    };
-    // 1-based arrays as in the classic formulation; index 0 is the virtual start.
-    let mut u = vec![0.0; n + 1];
-    let mut v = vec![0.0; m + 1];
-    let mut owner = vec![0usize; m + 1]; // column -> row assigned to it (0: none)
-    let mut way = vec![0usize; m + 1];
-    let mut min_to = vec![0.0; m + 1];
-    let mut used = vec![false; m + 1];
-    for i in 1..=n {
-        owner[0] = i;
-        let mut j0 = 0;
-        min_to.fill(f64::INFINITY);
-        used.fill(false);
-        loop {
-            used[j0] = true;
-            let i0 = owner[j0];
-            let mut delta = f64::INFINITY;
-            let mut j1 = 0;
-            for j in 1..=m {
-                if !used[j] {
-                    let reduced = at(i0 - 1, j - 1) - u[i0] - v[j];
-                    if reduced < min_to[j] {
-                        min_to[j] = reduced;
-                        way[j] = j0;
-                    }
-                    if min_to[j] < delta {
-                        delta = min_to[j];
-                        j1 = j;
+            (rows, cols)
+        };
+        let at = |i: usize, j: usize| {
+            if transposed {
+                cost[j * cols + i]
+            } else {
+                cost[i * cols + j]
+            }
+        };
+        let Self {
+            u,
+            v,
+            owner,
+            way,
+            min_to,
+            used,
+            pairs,
+        } = self;
+        reset(u, n + 1, 0.0);
+        reset(v, m + 1, 0.0);
+        reset(owner, m + 1, 0);
+        reset(way, m + 1, 0);
+        reset(min_to, m + 1, 0.0);
+        reset(used, m + 1, false);
+        for i in 1..=n {
+            owner[0] = i;
+            let mut j0 = 0;
+            min_to.fill(f64::INFINITY);
+            used.fill(false);
+            loop {
+                used[j0] = true;
+                let i0 = owner[j0];
+                let mut delta = f64::INFINITY;
+                let mut j1 = 0;
+                for j in 1..=m {
+                    if !used[j] {
+                        let reduced = at(i0 - 1, j - 1) - u[i0] - v[j];
+                        if reduced < min_to[j] {
+                            min_to[j] = reduced;
+                            way[j] = j0;
+                        }
+                        if min_to[j] < delta {
+                            delta = min_to[j];
+                            j1 = j;
+                        }
                     }
                 }
-            }
-            for j in 0..=m {
-                if used[j] {
-                    u[owner[j]] += delta;
-                    v[j] -= delta;
-                } else {
-                    min_to[j] -= delta;
+                for j in 0..=m {
+                    if used[j] {
+                        u[owner[j]] += delta;
+                        v[j] -= delta;
+                    } else {
+                        min_to[j] -= delta;
+                    }
+                }
+                j0 = j1;
+                if owner[j0] == 0 {
+                    break;
                 }
             }
-            j0 = j1;
-            if owner[j0] == 0 {
-                break;
+            loop {
+                let j1 = way[j0];
+                owner[j0] = owner[j1];
+                j0 = j1;
+                if j0 == 0 {
+                    break;
+                }
             }
         }
-        loop {
-            let j1 = way[j0];
-            owner[j0] = owner[j1];
-            j0 = j1;
-            if j0 == 0 {
-                break;
-            }
-        }
-    }
-    let mut pairs: Vec<(usize, usize)> = (1..=m)
-        .filter(|&j| owner[j] != 0)
-        .map(|j| {
+        pairs.extend((1..=m).filter(|&j| owner[j] != 0).map(|j| {
             let (i, j) = (owner[j] - 1, j - 1);
             if transposed {
                 (j, i)
             } else {
                 (i, j)
             }
-        })
-        .collect();
-    pairs.sort_unstable();
-    Ok(pairs)
+        }));
+        pairs.sort_unstable();
+        Ok(pairs)
+    }
+}
+
+/// `buffer` as `len` copies of `value`, reusing its memory.
+fn reset<T: Copy>(buffer: &mut Vec<T>, len: usize, value: T) {
+    buffer.clear();
+    buffer.resize(len, value);
 }
 
 #[cfg(test)]

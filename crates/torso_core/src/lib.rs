@@ -37,7 +37,9 @@ pub mod assignment;
 pub mod banded;
 pub mod bspline;
 pub mod butterworth;
+pub mod camera;
 pub mod coco;
+pub mod depth;
 pub mod error;
 pub mod forecaster;
 pub mod gating;
@@ -47,8 +49,9 @@ pub mod plane;
 pub mod selfcheck;
 pub mod sides;
 pub mod smoothing;
+pub mod tracker;
 
-pub use assignment::linear_assignment;
+pub use assignment::{linear_assignment, Assignment};
 pub use butterworth::{design_lowpass, LowPass, SosFilter, ZeroPhase};
 pub use error::{Error, Result};
 pub use forecaster::{
@@ -63,6 +66,7 @@ pub use plane::{
     Side, TorsoPlane, MIN_ORIENTATION_COSINE, MIN_PLANARITY,
 };
 pub use smoothing::{fit_smoothing_spline, SmoothingSpline};
+pub use tracker::{Outcome, TrackRef, Tracker, TrackerConfig};
 
 /// The README's Rust example, compiled and run as a doctest.
 #[doc = include_str!("../../../README.md")]

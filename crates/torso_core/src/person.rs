@@ -84,6 +84,12 @@ impl Default for PersonConfig {
 }
 
 impl PersonConfig {
+    /// Whether a keypoint scored `score` counts as seen: the one rule for every stage that
+    /// masks keypoints (NaN, "not scored", is not seen).
+    pub fn sees(&self, score: f64) -> bool {
+        score >= self.min_score
+    }
+
     /// Checks every field, as [`Person::new`] does.
     pub fn validate(&self) -> Result<()> {
         self.forecaster.validate()?;
@@ -228,6 +234,23 @@ impl Person {
         &self.config
     }
 
+    /// Forgets everything, as a new person of the same configuration would, in place: a
+    /// tracker reuses a dropped track's person for the next track without allocating.
+    pub fn reset(&mut self) {
+        self.gate.reset();
+        self.forecaster.reset();
+        self.last_t = None;
+        self.previous = None;
+        self.body_motion = [0.0; 3];
+        self.centre_offset = None;
+        self.last_pose = None;
+        self.widths = [None; 2];
+        self.facing = Facing::default();
+        if let Some(check) = self.check.as_mut() {
+            check.reset();
+        }
+    }
+
     /// The person's forecaster (its history, grid time and sample count).
     pub fn forecaster(&self) -> &Forecaster {
         &self.forecaster
@@ -277,7 +300,7 @@ impl Person {
         // A NaN or infinite score makes its keypoint missing, so that no later step (the
         // forecaster's weight) can fail after the track's state has changed.
         for (x, s) in joints.iter_mut().zip(scores.iter_mut()) {
-            if !(*s >= self.config.min_score && s.is_finite() && finite(x)) {
+            if !(self.config.sees(*s) && finite(x)) {
                 *x = [f64::NAN; 3];
             }
             if !s.is_finite() {

@@ -215,3 +215,74 @@ fn a_tracked_person_never_allocates_per_frame() {
     });
     assert_eq!(count, 0);
 }
+
+#[test]
+fn a_tracker_step_never_allocates_once_it_has_seen_its_busiest_frame() {
+    use torso_core::camera::{Camera, Intrinsics};
+    use torso_core::coco::N_JOINTS;
+    use torso_core::depth::DepthImage;
+    use torso_core::tracker::Keypoints;
+    let (w, h) = (320usize, 240usize);
+    // Ten people in a row, each a vertical strip of pixels at their own depth; the wall behind.
+    let people = 10;
+    let mut data = vec![4.0f32; w * h];
+    for (i, px) in data.iter_mut().enumerate() {
+        let person = (i % w) / (w / people);
+        if (i % w) % (w / people) < 20 {
+            *px = 1.5 + 0.1 * person as f32;
+        }
+    }
+    let image = DepthImage::new(&data, w, h).unwrap();
+    let camera = Camera::new(
+        Intrinsics::new(300.0, 300.0, 160.0, 120.0, [0.05, -0.01, 0.0, 0.0, 0.0]).unwrap(),
+        Camera::level(1.0, 0.1),
+    );
+    let frame = |k: usize, n: usize| -> Vec<Keypoints> {
+        (0..n)
+            .map(|p| {
+                let u = (p * (w / people) + 10) as f64 + 0.02 * k as f64;
+                std::array::from_fn(|j| {
+                    let side = if j % 2 == 1 { -4.0 } else { 4.0 };
+                    [
+                        u + side,
+                        40.0 + 9.0 * j as f64,
+                        if j == 3 { 0.1 } else { 0.9 },
+                    ]
+                })
+            })
+            .collect()
+    };
+    let mut tracker = Tracker::new(TrackerConfig::default()).unwrap();
+    // Some people missed for a frame; the last one gone for longer than `max_missing` (its track
+    // dropped) and back as a new track, born in the dropped one's reused slot.
+    let present = |k: usize| match k {
+        _ if k % 9 == 0 => 6,
+        90..130 => people - 1,
+        _ => people,
+    };
+    let frames: Vec<Vec<Keypoints>> = (0..170).map(|k| frame(k, present(k))).collect();
+    let mut out = [[0.0; 5]; 3];
+    let mut run = |tracker: &mut Tracker, range: std::ops::Range<usize>| {
+        for k in range {
+            let outcomes = tracker
+                .step(k as f64 / 30.0, &frames[k], &image, &camera)
+                .unwrap();
+            assert_eq!(outcomes.len(), frames[k].len());
+            let tracked: [Option<usize>; 16] =
+                std::array::from_fn(|d| outcomes.get(d).and_then(|o| o.track).map(|t| t.slot));
+            for slot in tracked.into_iter().flatten() {
+                tracker.forecast(slot, &[0.4, 1.0, 2.0], &mut out).unwrap();
+                tracker.intervals(slot, &[0.4, 1.0, 2.0], &mut out).unwrap();
+            }
+        }
+        assert!(tracker.joints().iter().all(|j| j.len() == N_JOINTS));
+    };
+    // Warm-up: the busiest frame, every track born.
+    run(&mut tracker, 0..80);
+    assert_eq!(tracker.tracks().count(), people);
+    let count = allocations_during(|| run(&mut tracker, 80..170));
+    assert_eq!(count, 0);
+    let ids: Vec<u64> = tracker.tracks().filter_map(|(t, _)| t.id).collect();
+    assert_eq!(ids.len(), people);
+    assert_eq!(ids.iter().max(), Some(&(people as u64 + 1)));
+}

@@ -1,0 +1,657 @@
+//! Every person in a stream: detections to tracks by their 3D torso centres, track birth,
+//! confirmation and drop, and one [`Person`] chain per track; with
+//! [`Tracker::step`], the depth lookup and deprojection of the 2D keypoints too, so that one call
+//! per frame takes a detector's output and a depth image to poses.
+//!
+//! Each frame, the cost of giving detection `j` to track `i` is the distance between the track's
+//! last torso centre and the detection's; the optimal assignment ([`Assignment`]) is taken, and
+//! pairs further apart than `gate` are refused. An unmatched detection opens a tentative track,
+//! which is confirmed (and given the next id) after `min_hits` matched frames; a confirmed track
+//! unmatched for `max_missing` seconds is dropped, a tentative one at its first miss.
+//!
+//! At most `capacity` tracks live at once and a frame holds at most `max_detections`
+//! detections; every buffer grows to those bounds at most, and a dropped track's [`Person`] is
+//! reset and reused, so a stream allocates nothing once it has seen its busiest frame.
+//!
+//! ```
+//! use torso_core::tracker::{Tracker, TrackerConfig};
+//! use torso_core::coco::{Joints, N_JOINTS};
+//! let mut tracker = Tracker::new(TrackerConfig::default()).unwrap();
+//! // One person 2 m ahead, facing the camera at the origin, walking along y.
+//! let body = |t: f64| -> Joints {
+//!     let mut j = [[f64::NAN; 3]; N_JOINTS];
+//!     let y = 0.5 * t;
+//!     j[5] = [2.0, y - 0.2, 1.4]; // left shoulder (on the camera's right: facing it)
+//!     j[6] = [2.0, y + 0.2, 1.4];
+//!     j[11] = [2.0, y - 0.12, 0.9];
+//!     j[12] = [2.0, y + 0.12, 0.9];
+//!     j
+//! };
+//! let scores = [0.9; N_JOINTS];
+//! for k in 0..10 {
+//!     let t = k as f64 / 25.0;
+//!     let outcomes = tracker.update(t, &[body(t)], &[scores], [0.0, 0.0, 1.0]).unwrap();
+//!     let track = outcomes[0].track.unwrap();
+//!     // Confirmed (with id 1) from its third frame.
+//!     assert_eq!(track.id, (k >= 2).then_some(1));
+//! }
+//! ```
+
+use crate::assignment::Assignment;
+use crate::camera::Camera;
+use crate::coco::{Joints, N_JOINTS, TORSO};
+use crate::depth::{DepthImage, DepthLookup};
+use crate::error::{Error, Result};
+use crate::person::{Observation, Person, PersonConfig};
+use crate::Pose;
+
+/// One detection's 2D keypoints: `(u, v, score)` per COCO-17 joint, pixels of the image the
+/// depth is registered to.
+pub type Keypoints = [[f64; 3]; N_JOINTS];
+
+/// Largest `capacity` and `max_detections` a tracker accepts.
+pub const MAX_CAPACITY: usize = 4096;
+
+/// Association, birth and drop rules, and what each track and the depth lookup use.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrackerConfig {
+    /// Largest torso-centre distance (m) between a track and its detection in one frame: a
+    /// walking person covers 0.6 m in 0.4 s.
+    pub gate: f64,
+    /// Matched frames before a track is confirmed and given an id.
+    pub min_hits: u32,
+    /// Seconds without a match after which a confirmed track is dropped.
+    pub max_missing: f64,
+    /// Most tracks alive at once; a detection that would open one more gets no track.
+    pub capacity: usize,
+    /// Most detections in one frame; a frame with more is refused.
+    pub max_detections: usize,
+    pub person: PersonConfig,
+    pub depth: DepthLookup,
+}
+
+impl Default for TrackerConfig {
+    fn default() -> Self {
+        Self {
+            gate: 0.6,
+            min_hits: 3,
+            max_missing: 1.0,
+            capacity: 64,
+            max_detections: 256,
+            person: PersonConfig::default(),
+            depth: DepthLookup::default(),
+        }
+    }
+}
+
+impl TrackerConfig {
+    /// Checks every field, as [`Tracker::new`] does.
+    pub fn validate(&self) -> Result<()> {
+        if !(self.gate > 0.0 && self.gate.is_finite()) {
+            return Err(Error::InvalidArgument {
+                name: "gate",
+                expected: "a positive, finite distance in metres",
+                value: self.gate,
+            });
+        }
+        if self.min_hits < 1 {
+            return Err(Error::InvalidArgument {
+                name: "min_hits",
+                expected: "at least 1 matched frame",
+                value: f64::from(self.min_hits),
+            });
+        }
+        if !(self.max_missing >= 0.0 && self.max_missing.is_finite()) {
+            return Err(Error::InvalidArgument {
+                name: "max_missing",
+                expected: "a finite, non-negative time in seconds",
+                value: self.max_missing,
+            });
+        }
+        for (name, value) in [
+            ("capacity", self.capacity),
+            ("max_detections", self.max_detections),
+        ] {
+            if !(1..=MAX_CAPACITY).contains(&value) {
+                return Err(Error::InvalidArgument {
+                    name,
+                    expected: "from 1 to MAX_CAPACITY (4096)",
+                    value: value as f64,
+                });
+            }
+        }
+        self.person.validate()?;
+        self.depth.validate()
+    }
+}
+
+/// The track a detection was given.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TrackRef {
+    /// Where the track lives in the tracker, for [`Tracker::forecast`] and
+    /// [`Tracker::person`]; valid until the next frame.
+    pub slot: usize,
+    /// Unique per track over the tracker's life, tentative tracks included.
+    pub serial: u64,
+    /// The confirmed track's id (1, 2, ... in order of confirmation); `None` while tentative.
+    pub id: Option<u64>,
+}
+
+/// One detection's outcome in a frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Outcome {
+    /// Index of the detection in the frame.
+    pub detection: usize,
+    /// `None` for a detection with no seen joint in 3D, or when `capacity` tracks are alive.
+    pub track: Option<TrackRef>,
+    pub observation: Option<Observation>,
+}
+
+#[derive(Clone, Debug)]
+struct Slot {
+    person: Person,
+    centre: [f64; 3],
+    hits: u32,
+    last_seen: f64,
+    id: Option<u64>,
+    serial: u64,
+}
+
+/// Tracks of every person in a stream. See the [module documentation](self).
+#[derive(Clone, Debug)]
+pub struct Tracker {
+    config: TrackerConfig,
+    /// Every track's storage; `active` lists the live ones in order of birth, `free` the rest.
+    slots: Vec<Slot>,
+    active: Vec<usize>,
+    free: Vec<usize>,
+    next_id: u64,
+    next_serial: u64,
+    last_t: Option<f64>,
+    // Per-frame working memory, sized by the bounds above.
+    joints: Vec<Joints>,
+    scores: Vec<[f64; N_JOINTS]>,
+    centres: Vec<[f64; 3]>,
+    placeable: Vec<usize>,
+    cost: Vec<f64>,
+    matched: Vec<Option<usize>>,
+    solver: Assignment,
+    outcomes: Vec<Outcome>,
+}
+
+impl Tracker {
+    pub fn new(config: TrackerConfig) -> Result<Self> {
+        config.validate()?;
+        let (c, d) = (config.capacity, config.max_detections);
+        Ok(Self {
+            config,
+            slots: Vec::with_capacity(c),
+            active: Vec::with_capacity(c),
+            free: Vec::with_capacity(c),
+            next_id: 1,
+            next_serial: 1,
+            last_t: None,
+            joints: Vec::with_capacity(d),
+            scores: Vec::with_capacity(d),
+            centres: Vec::with_capacity(d),
+            placeable: Vec::with_capacity(d),
+            cost: Vec::with_capacity(c * d),
+            matched: Vec::with_capacity(d),
+            solver: Assignment::with_capacity(c, d),
+            outcomes: Vec::with_capacity(d),
+        })
+    }
+
+    pub fn config(&self) -> &TrackerConfig {
+        &self.config
+    }
+
+    /// Time of the last accepted frame.
+    pub fn last_time(&self) -> Option<f64> {
+        self.last_t
+    }
+
+    /// One frame of 3D joints in the world frame: `joints[d]` and `scores[d]` for detection `d`
+    /// (NaN joints are missing; NaN scores mean "not scored"). Every argument is checked
+    /// before anything changes: a refused frame leaves the tracker as it was.
+    pub fn update(
+        &mut self,
+        t: f64,
+        joints: &[Joints],
+        scores: &[[f64; N_JOINTS]],
+        camera_position: [f64; 3],
+    ) -> Result<&[Outcome]> {
+        if scores.len() != joints.len() {
+            return Err(Error::LengthMismatch {
+                name: "scores",
+                expected: joints.len(),
+                got: scores.len(),
+            });
+        }
+        self.check(t, scores.iter().copied(), camera_position)?;
+        self.joints.clear();
+        self.joints.extend_from_slice(joints);
+        self.scores.clear();
+        self.scores.extend_from_slice(scores);
+        self.track(t, camera_position)
+    }
+
+    /// One frame of 2D `keypoints` `(u, v, score)` with the depth image registered to them:
+    /// each seen keypoint's depth is looked up ([`DepthLookup`]) and deprojected into the world
+    /// through `camera`, then the frame is tracked as in [`update`](Self::update).
+    /// [`joints`](Self::joints) gives the lifted joints afterwards.
+    pub fn step(
+        &mut self,
+        t: f64,
+        keypoints: &[Keypoints],
+        depth: &DepthImage<'_>,
+        camera: &Camera,
+    ) -> Result<&[Outcome]> {
+        let position = camera.position();
+        self.check(t, keypoints.iter().map(|k| k.map(|p| p[2])), position)?;
+        self.joints.clear();
+        self.scores.clear();
+        for person in keypoints {
+            let scores = person.map(|p| p[2]);
+            let joints = std::array::from_fn(|j| {
+                let [u, v, score] = person[j];
+                if self.config.person.sees(score) {
+                    let z = self.config.depth.depth_at(depth, [u, v]);
+                    camera.deproject_to_world([u, v], z)
+                } else {
+                    [f64::NAN; 3]
+                }
+            });
+            self.joints.push(joints);
+            self.scores.push(scores);
+        }
+        self.track(t, position)
+    }
+
+    /// The joints of the last frame as the tracks were given them (for [`step`](Self::step),
+    /// the lifted joints; unseen ones NaN).
+    pub fn joints(&self) -> &[Joints] {
+        &self.joints
+    }
+
+    /// The person chain of the track in `slot` (from a [`TrackRef`] of the latest frame).
+    pub fn person(&self, slot: usize) -> Option<&Person> {
+        self.active
+            .contains(&slot)
+            .then(|| &self.slots[slot].person)
+    }
+
+    /// [`Person::forecast`] of the track in `slot`; `Ok(false)` for a slot with no live track.
+    pub fn forecast(&mut self, slot: usize, horizons: &[f64], out: &mut [Pose]) -> Result<bool> {
+        if !self.active.contains(&slot) {
+            return Ok(false);
+        }
+        self.slots[slot].person.forecast(horizons, out)
+    }
+
+    /// [`Person::intervals`] of the track in `slot`; `Ok(false)` for a slot with no live track.
+    pub fn intervals(&self, slot: usize, horizons: &[f64], out: &mut [Pose]) -> Result<bool> {
+        match self.person(slot) {
+            Some(person) => person.intervals(horizons, out),
+            None => Ok(false),
+        }
+    }
+
+    /// The confirmed tracks, in order of birth.
+    pub fn tracks(&self) -> impl Iterator<Item = (TrackRef, &Person)> + '_ {
+        self.active.iter().filter_map(|&i| {
+            let s = &self.slots[i];
+            s.id.map(|id| {
+                let track = TrackRef {
+                    slot: i,
+                    serial: s.serial,
+                    id: Some(id),
+                };
+                (track, &s.person)
+            })
+        })
+    }
+
+    fn check(
+        &self,
+        t: f64,
+        mut scores: impl ExactSizeIterator<Item = [f64; N_JOINTS]>,
+        camera_position: [f64; 3],
+    ) -> Result<()> {
+        if !t.is_finite() {
+            return Err(Error::NonFinite {
+                name: "t",
+                index: 0,
+            });
+        }
+        if let Some(previous) = self.last_t.filter(|&p| !(t > p)) {
+            return Err(Error::TimeNotIncreasing { previous, got: t });
+        }
+        if let Some(index) = camera_position.iter().position(|v| !v.is_finite()) {
+            return Err(Error::NonFinite {
+                name: "camera_position",
+                index,
+            });
+        }
+        if scores.len() > self.config.max_detections {
+            return Err(Error::InvalidArgument {
+                name: "detections",
+                expected: "at most max_detections detections in one frame",
+                value: scores.len() as f64,
+            });
+        }
+        match scores.find_map(|p| {
+            p.into_iter()
+                .find(|s| !s.is_nan() && !(0.0..=1.0).contains(s))
+        }) {
+            Some(value) => Err(Error::InvalidArgument {
+                name: "scores",
+                expected: "keypoint scores from 0 to 1 (NaN for a keypoint not scored)",
+                value,
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// Association, birth, the per-person chain and drop, on the checked frame in `joints` and
+    /// `scores`.
+    fn track(&mut self, t: f64, camera_position: [f64; 3]) -> Result<&[Outcome]> {
+        self.last_t = Some(t);
+        let person_config = self.config.person;
+        self.centres.clear();
+        self.centres.extend(
+            self.joints
+                .iter()
+                .zip(&self.scores)
+                .map(|(j, s)| detection_centre(j, s, &person_config)),
+        );
+        self.placeable.clear();
+        self.placeable
+            .extend((0..self.centres.len()).filter(|&d| self.centres[d][0].is_finite()));
+        self.associate()?;
+
+        self.outcomes.clear();
+        self.outcomes
+            .extend((0..self.joints.len()).map(|detection| Outcome {
+                detection,
+                track: None,
+                observation: None,
+            }));
+        for k in 0..self.placeable.len() {
+            let d = self.placeable[k];
+            let slot = match self.matched[d] {
+                Some(slot) => slot,
+                None => match self.open() {
+                    Some(slot) => slot,
+                    None => continue,
+                },
+            };
+            let s = &mut self.slots[slot];
+            let observation =
+                s.person
+                    .update(t, &self.joints[d], &self.scores[d], camera_position)?;
+            s.hits += 1;
+            s.last_seen = t;
+            s.centre = match observation.pose {
+                Some(p) => [p[0], p[1], p[2]],
+                None => self.centres[d],
+            };
+            if s.id.is_none() && s.hits >= self.config.min_hits {
+                s.id = Some(self.next_id);
+                self.next_id += 1;
+            }
+            self.outcomes[d] = Outcome {
+                detection: d,
+                track: Some(TrackRef {
+                    slot,
+                    serial: s.serial,
+                    id: s.id,
+                }),
+                observation: Some(observation),
+            };
+        }
+        let max_missing = self.config.max_missing;
+        let (slots, free) = (&mut self.slots, &mut self.free);
+        self.active.retain(|&i| {
+            let s = &mut slots[i];
+            let keep = s.last_seen == t || (s.id.is_some() && t - s.last_seen <= max_missing);
+            if !keep {
+                s.person.reset();
+                free.push(i);
+            }
+            keep
+        });
+        Ok(&self.outcomes)
+    }
+
+    /// `matched[d]`: the slot of the live track that detection `d` continues, if any.
+    fn associate(&mut self) -> Result<()> {
+        self.matched.clear();
+        self.matched.resize(self.joints.len(), None);
+        let (rows, cols) = (self.active.len(), self.placeable.len());
+        if rows == 0 || cols == 0 {
+            return Ok(());
+        }
+        let gate = self.config.gate;
+        self.cost.clear();
+        for &i in &self.active {
+            let a = self.slots[i].centre;
+            for &d in &self.placeable {
+                let b = self.centres[d];
+                let distance =
+                    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
+                // Pairs beyond the gate cost more than any allowed set of pairs, and are refused
+                // below if the solver still takes them.
+                self.cost
+                    .push(if distance <= gate { distance } else { 1e6 });
+            }
+        }
+        for &(r, c) in self.solver.solve(&self.cost, rows, cols)? {
+            if self.cost[r * cols + c] <= gate {
+                self.matched[self.placeable[c]] = Some(self.active[r]);
+            }
+        }
+        Ok(())
+    }
+
+    /// A new tentative track's slot: a freed one, or a new one below `capacity`.
+    fn open(&mut self) -> Option<usize> {
+        let slot = match self.free.pop() {
+            Some(slot) => slot,
+            None if self.slots.len() < self.config.capacity => {
+                let person = Person::new(self.config.person).expect("validated with the config");
+                self.slots.push(Slot {
+                    person,
+                    centre: [f64::NAN; 3],
+                    hits: 0,
+                    last_seen: f64::NAN,
+                    id: None,
+                    serial: 0,
+                });
+                self.slots.len() - 1
+            }
+            None => return None,
+        };
+        let s = &mut self.slots[slot];
+        s.hits = 0;
+        s.id = None;
+        s.serial = self.next_serial;
+        self.next_serial += 1;
+        self.active.push(slot);
+        Some(slot)
+    }
+}
+
+/// Where a detection is, for association: the mean of its seen torso joints, else of every
+/// seen joint; NaN when it has no seen joint in 3D.
+pub fn detection_centre(
+    joints: &Joints,
+    scores: &[f64; N_JOINTS],
+    config: &PersonConfig,
+) -> [f64; 3] {
+    let seen = |j: usize| config.sees(scores[j]) && joints[j].iter().all(|v| v.is_finite());
+    let torso_seen = TORSO.iter().any(|&j| seen(j));
+    let mut total = [0.0; 3];
+    let mut n = 0usize;
+    for j in 0..N_JOINTS {
+        if seen(j) && (!torso_seen || TORSO.contains(&j)) {
+            for (t, v) in total.iter_mut().zip(joints[j]) {
+                *t += v;
+            }
+            n += 1;
+        }
+    }
+    if n == 0 {
+        return [f64::NAN; 3];
+    }
+    total.map(|v| v / n as f64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::Intrinsics;
+
+    /// A person facing -x (towards a camera at the origin) at `(x, y)`.
+    fn body(x: f64, y: f64) -> Joints {
+        std::array::from_fn(|j| {
+            let side = match j {
+                0 => 0.0,
+                _ if j % 2 == 1 => -0.18,
+                _ => 0.18,
+            };
+            [x, y + side, 1.7 - 0.08 * j as f64]
+        })
+    }
+
+    const SEEN: [f64; N_JOINTS] = [0.9; N_JOINTS];
+
+    #[test]
+    fn a_reset_person_behaves_as_a_new_one() {
+        let config = PersonConfig::default();
+        let mut used = Person::new(config).unwrap();
+        for k in 0..80 {
+            let t = k as f64 / 25.0;
+            used.update(t, &body(3.0 - 0.02 * k as f64, 0.1 * t), &SEEN, [0.0; 3])
+                .unwrap();
+        }
+        used.reset();
+        let mut fresh = Person::new(config).unwrap();
+        let (mut a, mut b) = ([[0.0; 5]; 2], [[0.0; 5]; 2]);
+        for k in 0..80 {
+            let t = 10.0 + k as f64 / 30.0;
+            let joints = body(2.0 + 0.03 * k as f64, -0.05 * k as f64);
+            let x = used.update(t, &joints, &SEEN, [0.0; 3]).unwrap();
+            let y = fresh.update(t, &joints, &SEEN, [0.0; 3]).unwrap();
+            assert_eq!(format!("{x:?}"), format!("{y:?}"), "frame {k}");
+            assert_eq!(
+                used.forecast(&[0.4, 1.0], &mut a).unwrap(),
+                fresh.forecast(&[0.4, 1.0], &mut b).unwrap()
+            );
+            assert_eq!(format!("{a:?}"), format!("{b:?}"));
+            assert_eq!(
+                used.intervals(&[0.4, 1.0], &mut a).unwrap(),
+                fresh.intervals(&[0.4, 1.0], &mut b).unwrap()
+            );
+            assert_eq!(format!("{a:?}"), format!("{b:?}"));
+        }
+    }
+
+    #[test]
+    fn a_refused_frame_changes_nothing() {
+        let mut tracker = Tracker::new(TrackerConfig {
+            max_detections: 2,
+            ..TrackerConfig::default()
+        })
+        .unwrap();
+        tracker
+            .update(0.0, &[body(2.0, 0.0)], &[SEEN], [0.0; 3])
+            .unwrap();
+        let before = format!("{tracker:?}");
+        let mut bad = SEEN;
+        bad[3] = 5.0;
+        let three = [body(2.0, 0.0), body(3.0, 0.0), body(4.0, 0.0)];
+        let one = [body(2.0, 0.0)];
+        type Frame<'a> = (f64, &'a [Joints], &'a [[f64; N_JOINTS]], [f64; 3]);
+        let frames: [Frame; 6] = [
+            (0.0, &one, &[SEEN], [0.0; 3]),
+            (f64::NAN, &one, &[SEEN], [0.0; 3]),
+            (0.04, &one, &[bad], [0.0; 3]),
+            (0.04, &one, &[], [0.0; 3]),
+            (0.04, &one, &[SEEN], [f64::NAN; 3]),
+            (0.04, &three, &[SEEN; 3], [0.0; 3]),
+        ];
+        for (t, joints, scores, camera) in frames {
+            assert!(tracker.update(t, joints, scores, camera).is_err());
+        }
+        assert_eq!(format!("{tracker:?}"), before);
+    }
+
+    #[test]
+    fn capacity_bounds_the_tracks_and_dropped_slots_are_reused() {
+        let mut tracker = Tracker::new(TrackerConfig {
+            capacity: 2,
+            min_hits: 1,
+            max_missing: 0.1,
+            ..TrackerConfig::default()
+        })
+        .unwrap();
+        let three = [body(2.0, 0.0), body(3.0, 1.0), body(4.0, -1.0)];
+        let out = tracker.update(0.0, &three, &[SEEN; 3], [0.0; 3]).unwrap();
+        let ids: Vec<Option<u64>> = out.iter().map(|o| o.track.and_then(|t| t.id)).collect();
+        assert_eq!(ids, [Some(1), Some(2), None]);
+        // The first two leave for longer than max_missing; the third then gets a reused slot.
+        tracker.update(0.5, &[], &[], [0.0; 3]).unwrap();
+        assert_eq!(tracker.tracks().count(), 0);
+        let out = tracker
+            .update(0.54, &three[2..], &[SEEN], [0.0; 3])
+            .unwrap();
+        let track = out[0].track.unwrap();
+        assert_eq!((track.id, track.serial), (Some(3), 3));
+        assert!(track.slot < 2);
+        assert_eq!(tracker.person(track.slot).unwrap().forecaster().len(), 1);
+    }
+
+    #[test]
+    fn step_lifts_keypoints_as_the_camera_and_lookup_say_and_tracks_them() {
+        let (w, h) = (64usize, 48usize);
+        let data = vec![2.5f32; w * h];
+        let image = DepthImage::new(&data, w, h).unwrap();
+        let camera = Camera::new(
+            Intrinsics::new(50.0, 50.0, 32.0, 24.0, [0.1, 0.0, 0.0, 0.0, 0.0]).unwrap(),
+            Camera::level(1.2, 0.0),
+        );
+        let keypoints: Keypoints = std::array::from_fn(|j| {
+            [
+                20.0 + j as f64,
+                5.0 + 2.0 * j as f64,
+                if j == 1 { 0.1 } else { 0.8 },
+            ]
+        });
+        let mut a = Tracker::new(TrackerConfig::default()).unwrap();
+        let from_step = a.step(0.0, &[keypoints], &image, &camera).unwrap()[0];
+        let lifted = a.joints()[0];
+        assert!(
+            lifted[1].iter().all(|v| v.is_nan()),
+            "below min_score: not lifted"
+        );
+        for j in (0..N_JOINTS).filter(|&j| j != 1) {
+            let [u, v, _] = keypoints[j];
+            let p = lifted[j];
+            // Back through the camera: the same pixel, 2.5 m along the optical axis.
+            let optical = [-(p[1]), -(p[2] - 1.2), p[0]];
+            assert!((optical[2] - 2.5).abs() < 1e-12);
+            let uv = camera.intrinsics.project(optical);
+            assert!(
+                (uv[0] - u).abs() < 1e-9 && (uv[1] - v).abs() < 1e-9,
+                "{uv:?}"
+            );
+        }
+        let mut b = Tracker::new(TrackerConfig::default()).unwrap();
+        let scores = keypoints.map(|k| k[2]);
+        let from_update = b
+            .update(0.0, &[lifted], &[scores], [0.0, 0.0, 1.2])
+            .unwrap();
+        assert_eq!(format!("{:?}", from_update), format!("{:?}", [from_step]));
+    }
+}
