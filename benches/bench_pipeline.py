@@ -1,6 +1,7 @@
 """Per-frame cost of the RGB-D pipeline outside the keypoint model (depth lifting, tracking and
-forecasting) for 1, 10 and 50 people, and end-to-end frames per second on the turntable sequence
-with each keypoint model found. Prints Markdown tables for benches/README.md.
+forecasting: one core call, ``Tracker.step``) for 1, 10 and 50 people, through ``Pipeline`` and
+through the bare ``Tracker.step`` call, and end-to-end frames per second on the turntable
+sequence with each keypoint model found. Prints Markdown tables for benches/README.md.
 
     python benches/bench_pipeline.py [--shared ../shared]
 """
@@ -17,6 +18,7 @@ from torsocast.camera import Camera, Intrinsics
 from torsocast.keypoints import Detections, open_model
 from torsocast.pipeline import Pipeline
 from torsocast.sources import Frame, open_source
+from torsocast.tracker import Tracker
 
 K = Intrinsics(525.0, 525.0, 320.0, 240.0)
 FRAMES = 200  # 8 s at 25 Hz: every track is confirmed and forecasting for most of it
@@ -57,17 +59,30 @@ class Replay:
         return self.next
 
 
-def outside_model(n: int) -> dict[str, float]:
+def outside_model(n: int) -> tuple[float, float]:
+    """Milliseconds per frame outside the model through ``Pipeline``, and in the bare
+    ``Tracker.step`` call (medians over the frames)."""
     rng = np.random.default_rng(n)
+    scenes = [crowd(n, k / 25, rng) for k in range(FRAMES)]
     model = Replay()
     pipeline = Pipeline(model, horizons=(0.4, 1.0))
     camera = Camera(K)
     color = np.zeros((480, 640, 3), dtype=np.uint8)
-    for k in range(FRAMES):
-        t = k / 25
-        model.next, depth = crowd(n, t, rng)
-        pipeline(Frame(k, t, color, depth, camera))
-    return pipeline.timing()
+    through_pipeline = []
+    for k, (detections, depth) in enumerate(scenes):
+        model.next = detections
+        before = pipeline.seconds["tracking"]
+        pipeline(Frame(k, k / 25, color, depth, camera))
+        through_pipeline.append(pipeline.seconds["tracking"] - before)
+    tracker, bare = Tracker(), []
+    k = K.fx, K.fy, K.cx, K.cy
+    for i, (detections, depth) in enumerate(scenes):
+        start = time.perf_counter()
+        tracker.step(
+            i / 25, detections.keypoints, depth, k, K.coefficients, camera.camera_to_world, [0.4, 1.0]
+        )
+        bare.append(time.perf_counter() - start)
+    return 1e3 * float(np.median(through_pipeline)), 1e3 * float(np.median(bare))
 
 
 def end_to_end(shared: Path) -> list[tuple[str, float, dict[str, float]]]:
@@ -93,20 +108,19 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--shared", default=str(Path(__file__).resolve().parents[2] / "shared"))
     args = parser.parse_args()
-    print("| people | lifting (ms) | tracking (ms) | forecasting (ms) | total outside the model (ms) |")
-    print("|---:|---:|---:|---:|---:|")
+    print("| people | outside the model, through Pipeline (ms) | the Tracker.step call alone (ms) |")
+    print("|---:|---:|---:|")
     for n in (1, 10, 50):
-        t = outside_model(n)
-        cells = [t["lifting"], t["tracking"], t["forecasting"], sum(t.values()) - t["model"]]
+        cells = outside_model(n)
         print(f"| {n} | " + " | ".join(f"{c:.3f}" for c in cells) + " |")
     shared = Path(args.shared)
     if not (shared / "data" / "rgbd" / "turntable").is_dir():
         print(f"\nend-to-end skipped: {shared}/data/rgbd/turntable not found")
         return
-    print("\n| model | frames/s (turntable, no decoding) | model | lifting | tracking | forecasting |")
-    print("|---|---:|---:|---:|---:|---:|")
+    print("\n| model | frames/s (turntable, no decoding) | model | lifting, tracking, forecasting |")
+    print("|---|---:|---:|---:|")
     for label, fps, t in end_to_end(shared):
-        stages = " | ".join(f"{t[s]:.2f} ms" for s in ("model", "lifting", "tracking", "forecasting"))
+        stages = " | ".join(f"{t[s]:.2f} ms" for s in ("model", "tracking"))
         print(f"| {label} | {fps:.1f} | {stages} |")
 
 

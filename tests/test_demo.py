@@ -58,12 +58,12 @@ def test_forward_kinematics_matches_a_scipy_rotation_chain():
                 xyz[j] = cmu.OFFSETS[j] @ rot[p] + xyz[p]
                 rot[j] = local[j] @ rot[p]
         assert np.allclose(got[f], xyz, atol=1e-5)
-    # SKELETON.md: CMU 07_01 starts at root position (8.8721, 15.7511, -31.7081).
+    # The first line of CMU 07_01's file: root position (8.8721, 15.7511, -31.7081).
     assert got[0, 0] == pytest.approx([8.8721, 15.7511, -31.7081])
 
 
 def test_a_walk_has_the_measured_proportions_and_faces_where_it_goes(walk):
-    # SKELETON.md section 8 and 9: widths in metres, 358 motion frames after the rest pose,
+    # Measured from the clip: widths in metres, 358 motion frames after the rest pose,
     # 3.845 m of horizontal path (of 359 frames), the floor at z = 0 (the lowest joint of all
     # files is 3.5 cm up; the toes of this one come to 4.6 cm).
     shoulders = np.linalg.norm(walk[:, cmu.LEFT_SHOULDER] - walk[:, cmu.RIGHT_SHOULDER], axis=1)

@@ -33,7 +33,8 @@ def test_azimuth_error_wraps_and_position_is_in_centimetres():
 
 
 def test_srnn_seeds_match_the_published_draws():
-    # SKELETON.md, section 4: the 8 draws for walking and eating (start = draw + 50).
+    # The 8 draws of the SRNN protocol for walking and eating (start = draw + 50), as the
+    # motion-prediction literature's seeded generator gives them.
     walking = [1087, 955, 1145, 332, 660, 304, 201, 54]
     eating = [1426, 374, 1087, 156, 1329, 955, 1145, 332]
     for (t1, t2), draws in (((1500, 1261), walking), ((1638, 1166), eating)):
@@ -66,7 +67,7 @@ def test_gravity_uses_the_floor_when_walking_and_the_spine_when_seated(h36m_root
         h36m.forward_kinematics(h36m.read_expmap(h36m_root / "S5" / "walking_1.txt"))
     )
     assert walking.rule == "floor"
-    assert walking.tilt_deg == pytest.approx(9.0, abs=0.3)  # measured in SKELETON.md
+    assert walking.tilt_deg == pytest.approx(9.0, abs=0.3)  # measured from the toes' floor plane
     sitting = h36m.estimate_gravity(
         h36m.forward_kinematics(h36m.read_expmap(h36m_root / "S5" / "sitting_1.txt"))
     )
@@ -83,7 +84,7 @@ def test_gravity_uses_the_floor_when_walking_and_the_spine_when_seated(h36m_root
 
 def test_sequence_is_25_hz_upright_and_every_frame_has_a_plane(h36m_root):
     seq = h36m.load_sequence(h36m_root, 5, "walking", 2)
-    assert len(seq.poses) == 1261  # ceil(2521 / 2), the T2 of SKELETON.md
+    assert len(seq.poses) == 1261  # ceil(2521 / 2): the 50 Hz take halved
     assert (seq.status == tc.PlaneStatus.OK).all()
     assert 80.0 < np.degrees(np.median(seq.poses[:, 4])) < 100.0
     # Walking turns: the unwrapped azimuth changes smoothly (no 180-degree sign flips).

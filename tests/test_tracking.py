@@ -6,8 +6,7 @@ import pytest
 
 import torsocast as tc
 from torsocast.keypoints import coco
-from torsocast.track import Track
-from torsocast.tracker import Tracker, TrackerConfig
+from torsocast.tracker import PersonConfig, Tracker, TrackerConfig
 
 CAMERA = np.zeros(3)  # camera at the world origin, people in front of it along +x
 
@@ -48,7 +47,7 @@ def test_a_turning_person_keeps_the_detectors_labels_and_a_short_swap_is_undone(
     # YOLO-pose and MoveNet label the sides right in back views too (every frame of the real
     # turntable sequence, with three models), so the labels decide; a detector's swap of a few
     # frames is exchanged back.
-    track = Track(1)
+    track = tc.Person()
     yaws = np.pi + np.radians(np.arange(0, 360, 4))  # facing the camera, then turning round
     errors, swaps = [], 0
     for k, yaw in enumerate(yaws):
@@ -67,11 +66,11 @@ def test_a_turning_person_keeps_the_detectors_labels_and_a_short_swap_is_undone(
 
 def test_a_track_born_facing_away_takes_the_labels_and_turns_round_on_steady_evidence():
     joints, scores = person([2.0, 0.5, 1.0], 0.2)  # back to the camera, no face in sight
-    obs = Track(1).update(0.0, joints, scores, CAMERA)
+    obs = tc.Person().update(0.0, joints, scores, CAMERA)
     assert not obs.swapped and obs.pose[3] == pytest.approx(0.2)
     # Born with the sides exchanged (facing the camera, its face not found), then labelled
     # right with the nose in front: the track turns round once and stays.
-    track = Track(2)
+    track = tc.Person()
     flips = []
     for k in range(30):
         j, s = person([2.0, 0.5, 1.0], np.pi + 0.005 * k)
@@ -85,7 +84,7 @@ def test_a_track_born_facing_away_takes_the_labels_and_turns_round_on_steady_evi
 
 
 def test_without_hips_the_azimuth_comes_from_the_shoulders():
-    track = Track(1)
+    track = tc.Person()
     joints, scores = person([2.0, 0.0, 1.0], 2.5)
     track.update(0.0, joints, scores, CAMERA)  # plane: learns where the centre sits
     joints, scores = person([2.02, 0.0, 1.0], 2.6, hips=False)
@@ -96,7 +95,7 @@ def test_without_hips_the_azimuth_comes_from_the_shoulders():
 
 
 def test_frames_faster_than_the_grid_are_skipped_and_gaps_are_filled():
-    track = Track(1)
+    track = tc.Person()
     grid = []
     for t in [0.0, 1 / 30, 2 / 30, 3 / 30, 4 / 30, 0.28]:
         joints, scores = person([2.0, 0.0, 1.0], 3.0)
@@ -104,11 +103,11 @@ def test_frames_faster_than_the_grid_are_skipped_and_gaps_are_filled():
     # 30 fps onto 25 Hz slots 0, 1, 2, 3, 3 (skipped), then slot 7 after three empty slots.
     assert [g["skipped"] for g in grid] == [False, False, False, False, True, False]
     assert grid[-1]["filled"] == 3 and not grid[-1]["restarted"]
-    assert track.samples == 8
+    assert len(track) == 8
 
 
 def test_gate_replaces_a_jumping_joint():
-    track = Track(1)
+    track = tc.Person()
     joints, scores = person([2.0, 0.0, 1.0], np.pi)
     track.update(0.0, joints, scores, CAMERA)
     joints[coco.LEFT_HIP] += [0.5, 0.0, 0.0]  # a depth reading from the wall
@@ -145,8 +144,8 @@ def test_tracker_keeps_ids_through_a_crossing_and_a_missed_frame():
             ids_c.add(found[2])
     # Confirmed after 3 frames: None before, then one stable id each.
     assert ids_a == {None, 1} and ids_b == {None, 2} and ids_c == {None, 3}
-    assert len(tracker.tracks) == 3
-    forecast = tracker.tracks[0].forecast([0.4])
+    assert [t.id for t in tracker.tracks] == [1, 2, 3]
+    forecast = tracker.forecast(1, [0.4])
     # x ahead of a, who walks at 1 m/s: the damped trend carries 1.5 (1 - e^(-0.4/1.5)) m in
     # 0.4 s; the 1 Hz zero-phase filter's end effect on the ramp costs a few centimetres more.
     carried = 1.5 * (1 - np.exp(-0.4 / 1.5))
@@ -174,21 +173,22 @@ def test_a_frame_that_goes_back_in_time_is_refused_and_changes_nothing():
         with pytest.raises(tc.TimeNotIncreasingError, match="not after"):
             tracker.update(t, joints + 5.0, scores, CAMERA)
     assert [(t.id, t.samples, t.last_time) for t in tracker.tracks] == before
-    with pytest.raises(tc.TimeNotIncreasingError):  # the core refuses it too, track by track
-        tracker.tracks[0].update(0.0, joints[0], scores[0], CAMERA)
 
 
-def test_detection_centres_prefer_the_torso_and_mark_empty_detections():
-    from torsocast.tracker import detection_centres
-
+def test_detection_centres_prefer_the_torso_and_ignore_empty_detections():
+    # Association goes by the mean of the seen torso joints, else of every seen joint; a
+    # detection with nothing seen in 3D gets no track.
+    tracker = Tracker(TrackerConfig(min_hits=1, gate=0.05))
     joints, scores = walkers(0.4)
     joints[1, list(coco.TORSO)] = np.nan  # only the nose of person b is seen
     scores[2] = 0.0  # nothing of person c is believed
-    centres = detection_centres(joints, scores, 0.3)
-    assert centres[0] == pytest.approx(joints[0, list(coco.TORSO)].mean(axis=0))
-    assert centres[1] == pytest.approx(joints[1, coco.NOSE])
-    assert np.isnan(centres[2]).all()
-    assert detection_centres(np.zeros((0, 17, 3)), np.zeros((0, 17)), 0.3).shape == (0, 3)
+    first = tracker.update(0.0, joints, scores, CAMERA)
+    assert [r.track_id for r in first] == [1, 2, None] and first[2].observation is None
+    # Moved so that only centres taken this way stay within the 5 cm gate.
+    joints[0] += [0.03, 0.0, 0.0]
+    joints[1, coco.NOSE] += [0.03, 0.0, 0.0]
+    again = tracker.update(0.04, joints, scores, CAMERA)
+    assert [r.track_id for r in again] == [1, 2, None]
 
 
 def test_the_core_person_refuses_bad_shapes_and_values_without_changing_state():
@@ -202,34 +202,44 @@ def test_the_core_person_refuses_bad_shapes_and_values_without_changing_state():
     with pytest.raises(tc.NonFiniteError, match="camera_position"):
         p.update(0.04, joints, scores, [np.nan, 0.0, 0.0])
     with pytest.raises(tc.InvalidArgumentError, match="facing_memory"):
-        tc.Person(facing_memory=0.0)
+        PersonConfig(facing_memory=0.0)
     with pytest.raises(tc.InvalidArgumentError, match="min_score"):
-        tc.Person(min_score=2.0)  # a score is a probability: 2 was accepted
+        PersonConfig(min_score=2.0)  # a score is a probability: 2 was accepted
     assert len(p) == 1 and p.last_time == 0.0
     obs = p.update(0.04, joints.astype(np.float32), scores.tolist(), (0, 0, 0))  # any array-like
     assert obs.estimate == "plane" and obs.grid == {"filled": 0, "restarted": False, "skipped": False}
     assert obs.joints.shape == (17, 3) and np.isnan(obs.joints[13]).all()  # a knee: never seen
     assert "plane" in repr(obs)
-    assert p.forecaster.cutoff_hz == tc.ForecasterConfig.live().cutoff_hz == 1.0
+    assert p.config.forecaster == tc.ForecasterConfig.live()
 
 
-def test_track_config_defaults_are_the_cores():
-    # TrackConfig spells its defaults out for readers; the core's PersonConfig::default() is
-    # what a bare Person gets. They must not drift apart.
-    from dataclasses import fields
+def test_configs_are_frozen_values_built_from_the_cores_defaults():
+    import pickle
 
-    from torsocast.track import TrackConfig
-
-    python = {f.name: getattr(TrackConfig(), f.name) for f in fields(TrackConfig) if f.name != "forecaster"}
-    assert python == tc.Person().parameters
-    assert tc.Person(occlusion_ratio=0.0, gate_max_replacements=3).parameters["gate_max_replacements"] == 3
+    config = TrackerConfig()
+    assert config == TrackerConfig(person=PersonConfig(), depth=tc.DepthLookup())
+    assert config.person.forecaster == tc.ForecasterConfig.live() and config.person.self_check
+    changed = config.replace(gate=0.5, person=config.person.replace(face_weight=0.0))
+    assert (changed.gate, changed.person.face_weight, changed.min_hits) == (0.5, 0.0, config.min_hits)
+    assert changed != config and config.gate != 0.5  # replace() leaves the original alone
+    for value in (config, changed, config.person, config.depth, tc.ForecasterConfig("const")):
+        assert pickle.loads(pickle.dumps(value)) == value
+        assert eval(repr(value), vars(tc)) == value  # the repr is the constructor call
+    with pytest.raises(AttributeError):
+        config.gate = 1.0  # type: ignore[misc]
+    with pytest.raises(TypeError, match="unexpected keyword"):
+        config.replace(gates=1.0)
+    for bad in (dict(gate=0.0), dict(min_hits=0), dict(capacity=0), dict(max_detections=10**9)):
+        with pytest.raises(tc.InvalidArgumentError, match=next(iter(bad))):
+            TrackerConfig(**bad)
+    assert tc.Person(PersonConfig(gate_max_replacements=3)).config.gate_max_replacements == 3
 
 
 def test_a_walkers_track_checks_its_forecasts_and_gives_intervals():
     # Walking along +y at 1 m/s facing +y, with a little keypoint noise: the centre trend comes
     # true, so after its checks the track continues it, with finite 80 % half-widths.
     rng = np.random.default_rng(3)
-    track = Track(1)
+    track = tc.Person()
     assert track.intervals([0.4]) is None
     for k in range(100):
         t = k / 25
@@ -244,7 +254,7 @@ def test_a_walkers_track_checks_its_forecasts_and_gives_intervals():
     assert half.shape == (3, 5) and np.isfinite(half).all() and (half > 0).all()
     assert half[0, 1] < 0.3  # the walking direction's error at 0.4 s stays within decimetres
     with pytest.raises(tc.InvalidArgumentError, match="horizons"):
-        track.person.intervals([-1.0])
+        track.intervals([-1.0])
 
 
 def test_a_refused_frame_leaves_the_tracker_as_it_was():
@@ -264,8 +274,11 @@ def test_a_refused_frame_leaves_the_tracker_as_it_was():
     for t, j, s, camera in bad_frames:
         with pytest.raises(tc.TorsocastError):
             tracker.update(t, j, s, camera)
-        assert tracker.last_t is None and not tracker.slots
+        assert tracker.last_time is None and len(tracker) == 0
     assert len(tracker.update(0.0, *good)) == 1
+    with pytest.raises(tc.InvalidArgumentError, match="horizons"):  # checked before the frame
+        tracker.update(0.04, *good, horizons=[-1.0])
+    assert tracker.last_time == 0.0
 
 
 def test_linear_assignment_matches_scipy(rng):

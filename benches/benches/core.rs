@@ -199,3 +199,76 @@ fn ten_people_per_frame(bencher: Bencher) {
         k += 1;
     });
 }
+
+/// A 640x480 depth image (a wall at 6 m) with ten people as 2 m-deep boxes at 2 to 4 m, their
+/// keypoints' pixels, and the camera they were seen by.
+fn crowd_frame(k: usize) -> (Vec<f32>, Vec<tracker::Keypoints>, camera::Camera) {
+    let (w, h) = (640usize, 480usize);
+    let intrinsics = camera::Intrinsics::new(525.0, 525.0, 320.0, 240.0, [0.0; 5]).unwrap();
+    let cam = camera::Camera::new(intrinsics, camera::Camera::level(1.0, 0.0));
+    let mut depth = vec![6.0f32; w * h];
+    let mut keypoints = Vec::new();
+    for i in 0..10 {
+        let u0 = 20 + 60 * i + (k % 4);
+        let z = 2.0 + 0.2 * i as f32;
+        for v in 100..400 {
+            for u in u0..u0 + 40 {
+                depth[v * w + u] = z;
+            }
+        }
+        keypoints.push(std::array::from_fn(|j| {
+            let side = if j % 2 == 1 { 12.0 } else { 28.0 };
+            [u0 as f64 + side, 110.0 + 16.0 * j as f64, 0.9]
+        }));
+    }
+    (depth, keypoints, cam)
+}
+
+/// The depth lookup of one person's 17 keypoints (7x7 windows at body edges and inside).
+#[divan::bench]
+fn depth_lookup_17_keypoints(bencher: Bencher) {
+    let (depth, keypoints, _) = crowd_frame(0);
+    let image = depth::DepthImage::new(&depth, 640, 480).unwrap();
+    let lookup = depth::DepthLookup::default();
+    bencher.bench_local(|| {
+        let mut sum = 0.0;
+        for [u, v, _] in black_box(&keypoints[0]) {
+            sum += lookup.depth_at(&image, [*u, *v]);
+        }
+        sum
+    });
+}
+
+/// One frame of ten people through `Tracker::step` (depth lookup and deprojection of 170
+/// keypoints, association, ten person chains) and a forecast with intervals at two horizons
+/// for each confirmed track: everything outside the model in one frame, without Python.
+#[divan::bench]
+fn tracker_step_ten_people(bencher: Bencher) {
+    let frames: Vec<_> = (0..4).map(crowd_frame).collect();
+    let mut tracker = Tracker::new(TrackerConfig::default()).unwrap();
+    let mut out = [[0.0; 5]; 2];
+    let mut k = 0;
+    let mut step = |tracker: &mut Tracker, k: usize| {
+        let (depth, keypoints, cam) = &frames[k % 4];
+        let image = depth::DepthImage::new(depth, 640, 480).unwrap();
+        let slots: [Option<usize>; 10] = {
+            let outcomes = tracker
+                .step(k as f64 * 0.04, keypoints, &image, cam)
+                .unwrap();
+            std::array::from_fn(|d| outcomes[d].track.map(|t| t.slot))
+        };
+        for slot in slots.into_iter().flatten() {
+            if tracker.forecast(slot, &[0.4, 1.0], &mut out).unwrap() {
+                tracker.intervals(slot, &[0.4, 1.0], &mut out).unwrap();
+            }
+        }
+    };
+    for _ in 0..100 {
+        step(&mut tracker, k);
+        k += 1;
+    }
+    bencher.bench_local(|| {
+        step(&mut tracker, k);
+        k += 1;
+    });
+}

@@ -1,8 +1,9 @@
 """torsocast: 3D torso pose of every person in an RGB-D stream, forecast up to 2 s ahead.
 
-The per-frame mathematics (torso plane, joint gating, Butterworth low-pass, penalised B-spline
-forecast) runs in the Rust crate ``torso_core`` through ``torsocast._core``; this package adds the
-names a Python user expects. Conventions: SI units and radians; world frame x forward, y left,
+The per-frame engine (depth lookup and deprojection, association of detections to tracks, torso
+plane, joint gating, Butterworth low-pass, penalised B-spline forecast) runs in the Rust crate
+``torso_core`` through ``torsocast._core``; this package adds the keypoint model, the sources and
+the names a Python user expects. Conventions: SI units and radians; world frame x forward, y left,
 z up; a pose is ``[x, y, z, azimuth, elevation]``; a missing joint is NaN.
 """
 
@@ -12,6 +13,7 @@ from ._core import (
     MAX_DEGREE,
     AmbiguousOrientationError,
     CollinearJointsError,
+    DepthLookup,
     Forecaster,
     ForecasterConfig,
     InvalidArgumentError,
@@ -22,11 +24,16 @@ from ._core import (
     NotPositiveDefiniteError,
     Observation,
     Person,
+    PersonConfig,
     ShapeError,
     TimeNotIncreasingError,
     TooFewJointsError,
     TorsocastError,
     TorsoPlane,
+    Tracker,
+    TrackerConfig,
+    TrackOutcome,
+    TrackState,
     __version__,
     butter_lowpass,
     fit_plane,
@@ -72,6 +79,7 @@ __all__ = [
     "MAX_DEGREE",
     "AmbiguousOrientationError",
     "CollinearJointsError",
+    "DepthLookup",
     "Forecaster",
     "ForecasterConfig",
     "InvalidArgumentError",
@@ -83,12 +91,17 @@ __all__ = [
     "NotPositiveDefiniteError",
     "Observation",
     "Person",
+    "PersonConfig",
     "PlaneStatus",
     "ShapeError",
     "TimeNotIncreasingError",
     "TooFewJointsError",
     "TorsoPlane",
     "TorsocastError",
+    "TrackOutcome",
+    "TrackState",
+    "Tracker",
+    "TrackerConfig",
     "__version__",
     "butter_lowpass",
     "fit_plane",

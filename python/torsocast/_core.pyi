@@ -10,6 +10,7 @@ from typing_extensions import TypeAlias, final
 __all__ = [
     "AmbiguousOrientationError",
     "CollinearJointsError",
+    "DepthLookup",
     "Forecaster",
     "ForecasterConfig",
     "InvalidArgumentError",
@@ -21,11 +22,16 @@ __all__ = [
     "NotPositiveDefiniteError",
     "Observation",
     "Person",
+    "PersonConfig",
     "ShapeError",
     "TimeNotIncreasingError",
     "TooFewJointsError",
     "TorsoPlane",
     "TorsocastError",
+    "TrackOutcome",
+    "TrackState",
+    "Tracker",
+    "TrackerConfig",
     "__version__",
     "butter_lowpass",
     "fit_plane",
@@ -191,6 +197,35 @@ def linear_assignment(cost: _ArrayLike) -> tuple[npt.NDArray[np.uintp], npt.NDAr
 
 @final
 class Person:
+    """One tracked person's per-frame chain (``torso_core::Person``): side decision, depth
+    completion of hidden far joints, relative gate, torso plane, forecaster grid, self-check."""
+
+    def __new__(cls, config: PersonConfig | None = None) -> Person: ...
+    def update(
+        self, t: float, joints: _ArrayLike, scores: _ArrayLike, camera_position: _ArrayLike
+    ) -> Observation:
+        """One frame: ``joints (17, 3)`` in the world frame (NaN where missing), their
+        ``scores`` and where the camera is. A refused frame raises and changes nothing."""
+    def forecast(self, horizons: Sequence[float]) -> _F64 | None:
+        """``(len(horizons), 5)`` poses ahead of the last grid sample, azimuth wrapped; None
+        until the history holds enough samples."""
+    def intervals(self, horizons: Sequence[float]) -> _F64 | None:
+        """``(len(horizons), 5)`` half-widths of the central 80 % intervals around
+        :meth:`forecast`; None until the track has checked a forecast."""
+    def __len__(self) -> int: ...
+    @property
+    def last_time(self) -> float | None:
+        """Grid time of the forecaster's newest sample; forecasts count from here."""
+    @property
+    def min_samples(self) -> int: ...
+    @property
+    def config(self) -> PersonConfig: ...
+
+@final
+class PersonConfig:
+    """One track's parameters (``torso_core::PersonConfig``), frozen; every keyword left out
+    takes the core's default. ``replace(**changes)`` gives a changed copy."""
+
     def __new__(
         cls,
         forecaster: ForecasterConfig | None = None,
@@ -203,21 +238,192 @@ class Person:
         motion_weight: float | None = None,
         self_check: bool | None = None,
         occlusion_ratio: float | None = None,
-    ) -> Person: ...
+    ) -> PersonConfig: ...
+    @property
+    def forecaster(self) -> ForecasterConfig:
+        """The live tracking forecaster (``ForecasterConfig.live()`` unless given)."""
+    @property
+    def gate_threshold(self) -> float:
+        """Largest accepted joint displacement between frames relative to the body's (m)."""
+    @property
+    def gate_max_replacements(self) -> int:
+        """Frames a joint may be held over before it is lost."""
+    @property
+    def min_score(self) -> float:
+        """Keypoints scored below this are missing (the one seen-keypoint rule of every stage)."""
+    @property
+    def facing_memory(self) -> float:
+        """Time constant (s) over which the evidence for which way the chest faces is forgotten."""
+    @property
+    def face_weight(self) -> float:
+        """Weight of the nose standing in front of the shoulders, relative to the labels'."""
+    @property
+    def motion_weight(self) -> float:
+        """Weight of the walking direction, relative to the labels'."""
+    @property
+    def self_check(self) -> bool:
+        """The track checks its forecasts against its own later samples and mixes the candidates."""
+    @property
+    def occlusion_ratio(self) -> float:
+        """A pair shorter than this fraction of its learned width has its far joint's depth
+        completed; 0 turns it off."""
+    def replace(self, **changes: object) -> PersonConfig: ...
+    def __getnewargs_ex__(self) -> tuple[tuple[()], dict[str, object]]: ...
+
+@final
+class DepthLookup:
+    """How a keypoint's depth is read from the depth image (``torso_core::depth``): the median
+    of the valid readings in a ``(2 radius + 1)²`` window after dropping those more than
+    ``band`` (m) behind the window's 25th percentile; fewer than ``min_valid`` readings gives
+    NaN. Frozen; every keyword left out takes the core's default."""
+
+    def __new__(
+        cls,
+        *,
+        radius: int | None = None,
+        band: float | None = None,
+        min_valid: int | None = None,
+        min_depth: float | None = None,
+        max_depth: float | None = None,
+    ) -> DepthLookup: ...
+    @property
+    def radius(self) -> int: ...
+    @property
+    def band(self) -> float: ...
+    @property
+    def min_valid(self) -> int: ...
+    @property
+    def min_depth(self) -> float: ...
+    @property
+    def max_depth(self) -> float: ...
+    def __call__(self, depth: _ArrayLike, uv: _ArrayLike) -> _F64:
+        """Depth (m) at each pixel of ``uv (..., 2)`` in a ``(h, w)`` depth image in metres;
+        NaN where none."""
+    def replace(self, **changes: object) -> DepthLookup: ...
+    def __getnewargs_ex__(self) -> tuple[tuple[()], dict[str, object]]: ...
+
+@final
+class TrackerConfig:
+    """Association, birth and drop rules (``torso_core::tracker::TrackerConfig``) with each
+    track's :class:`PersonConfig` and the :class:`DepthLookup`. Frozen; every keyword left out
+    takes the core's default."""
+
+    def __new__(
+        cls,
+        *,
+        gate: float | None = None,
+        min_hits: int | None = None,
+        max_missing: float | None = None,
+        capacity: int | None = None,
+        max_detections: int | None = None,
+        person: PersonConfig | None = None,
+        depth: DepthLookup | None = None,
+    ) -> TrackerConfig: ...
+    @property
+    def gate(self) -> float:
+        """Largest torso-centre distance (m) between a track and its detection in one frame."""
+    @property
+    def min_hits(self) -> int:
+        """Matched frames before a track is confirmed and given an id."""
+    @property
+    def max_missing(self) -> float:
+        """Seconds without a match after which a confirmed track is dropped."""
+    @property
+    def capacity(self) -> int:
+        """Most tracks alive at once."""
+    @property
+    def max_detections(self) -> int:
+        """Most detections in one frame."""
+    @property
+    def person(self) -> PersonConfig: ...
+    @property
+    def depth(self) -> DepthLookup: ...
+    def replace(self, **changes: object) -> TrackerConfig: ...
+    def __getnewargs_ex__(self) -> tuple[tuple[()], dict[str, object]]: ...
+
+@final
+class Tracker:
+    """Every person in a stream (``torso_core::tracker::Tracker``): association by torso
+    centre, track birth, confirmation and drop, one :class:`Person` chain per track, and with
+    :meth:`step` the depth lookup and deprojection of the 2D keypoints. One call per frame."""
+
+    def __new__(cls, config: TrackerConfig | None = None) -> Tracker: ...
+    @property
+    def config(self) -> TrackerConfig: ...
+    @property
+    def last_time(self) -> float | None:
+        """Time of the last accepted frame."""
     def update(
-        self, t: float, joints: _ArrayLike, scores: _ArrayLike, camera_position: _ArrayLike
-    ) -> Observation: ...
-    def forecast(self, horizons: Sequence[float]) -> _F64 | None: ...
-    def intervals(self, horizons: Sequence[float]) -> _F64 | None: ...
-    def __len__(self) -> int: ...
+        self,
+        t: float,
+        joints: _ArrayLike,
+        scores: _ArrayLike,
+        camera_position: _ArrayLike,
+        horizons: Sequence[float] | None = None,
+    ) -> list[TrackOutcome]:
+        """One frame of world ``joints (people, 17, 3)`` (NaN where missing) with ``scores
+        (people, 17)``; forecasts at ``horizons`` for confirmed tracks. A refused frame raises
+        and changes nothing."""
+    def step(
+        self,
+        t: float,
+        keypoints: _ArrayLike,
+        depth: _ArrayLike,
+        intrinsics: tuple[float, float, float, float],
+        distortion: tuple[float, float, float, float, float],
+        camera_to_world: _ArrayLike,
+        horizons: Sequence[float] | None = None,
+    ) -> tuple[_F64, list[TrackOutcome]]:
+        """One frame of 2D ``keypoints (people, 17, 3)`` ``(u, v, score)`` with the ``(h, w)``
+        depth image (m) registered to them, the intrinsics ``(fx, fy, cx, cy)``, Brown-Conrady
+        ``(k1, k2, p1, p2, k3)`` and the 4x4 ``camera_to_world``: the lifted world joints and
+        each detection's outcome. A refused frame raises and changes nothing."""
+    @property
+    def tracks(self) -> list[TrackState]:
+        """The confirmed tracks, in order of birth."""
+    def forecast(self, track_id: int, horizons: Sequence[float]) -> _F64 | None:
+        """The confirmed track's ``(len(horizons), 5)`` forecast; None for an unknown id or a
+        history too short."""
+    def __len__(self) -> int:
+        """Live tracks, tentative ones included."""
+
+@final
+class TrackOutcome:
+    """One detection's outcome in a frame."""
+
+    @property
+    def detection(self) -> int:
+        """Index of the detection in the frame."""
+    @property
+    def track_id(self) -> int | None:
+        """The confirmed track's id; None for a tentative track or a detection with no track."""
+    @property
+    def key(self) -> int | None:
+        """Unique per track over the tracker's life, tentative tracks included."""
+    @property
+    def observation(self) -> Observation | None: ...
+    @property
+    def last_time(self) -> float | None:
+        """Grid time of the track's newest sample: its forecasts count from here."""
+    @property
+    def forecast(self) -> _F64 | None:
+        """``(len(horizons), 5)`` forecast of a confirmed track, once its history is long enough."""
+    @property
+    def intervals(self) -> _F64 | None:
+        """``(len(horizons), 5)`` half-widths of the 80 % intervals around ``forecast``."""
+
+@final
+class TrackState:
+    """A confirmed track as the tracker holds it now."""
+
+    @property
+    def id(self) -> int: ...
+    @property
+    def key(self) -> int: ...
     @property
     def last_time(self) -> float | None: ...
     @property
-    def min_samples(self) -> int: ...
-    @property
-    def forecaster(self) -> ForecasterConfig: ...
-    @property
-    def parameters(self) -> dict[str, float | bool]: ...
+    def samples(self) -> int: ...
 
 @final
 class Observation:

@@ -1,7 +1,10 @@
-"""Depth cameras: pinhole intrinsics with optional Brown-Conrady distortion, a robust depth per
-keypoint, deprojection into the camera's optical frame (z forward, x right, y down), and the
-camera-to-world transform into the gravity-aligned world frame of DESIGN.md (REP-103: x forward,
-y left, z up).
+"""Depth cameras as the sources describe them: pinhole intrinsics with optional Brown-Conrady
+distortion, the depth image's scale, and the camera-to-world transform into the gravity-aligned
+world frame (REP-103: x forward, y left, z up) from the camera's optical frame (z forward, x
+right, y down).
+
+The runtime lifts keypoints in the core (``Tracker.step``: :class:`DepthLookup`, deprojection);
+the NumPy projections here serve whole images (the renderer's rays, the overlay's drawing).
 """
 
 from __future__ import annotations
@@ -10,6 +13,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import numpy.typing as npt
+
+from ._core import DepthLookup
 
 F64 = npt.NDArray[np.float64]
 
@@ -37,6 +42,12 @@ class Intrinsics:
             raise ValueError(
                 f"distortion takes up to 5 coefficients (k1, k2, p1, p2, k3), got {len(self.distortion)}"
             )
+
+    @property
+    def coefficients(self) -> tuple[float, float, float, float, float]:
+        """``(k1, k2, p1, p2, k3)``, zero-padded."""
+        k = tuple(float(v) for v in self._coefficients())
+        return k  # type: ignore[return-value]
 
     @property
     def matrix(self) -> F64:
@@ -83,69 +94,6 @@ class Intrinsics:
 
 
 @dataclass(frozen=True)
-class DepthLookup:
-    """How a keypoint's depth is read from the depth image.
-
-    The median of the valid readings in a ``(2 radius + 1)²`` window around the keypoint, after
-    dropping readings more than ``band`` behind the window's 25th percentile: a keypoint on a
-    shoulder's edge sees half body, half wall, and the body is the nearer half. The 25th
-    percentile rather than the minimum keeps single flying pixels at depth edges from choosing the
-    band. Fewer than ``min_valid`` readings in the band gives NaN (no depth)."""
-
-    radius: int = 3
-    band: float = 0.15
-    min_valid: int = 4
-    min_depth: float = 0.2
-    max_depth: float = 10.0
-
-    def __post_init__(self) -> None:
-        if (
-            self.radius < 0
-            or self.band <= 0
-            or self.min_valid < 1
-            or not 0 <= self.min_depth < self.max_depth
-        ):
-            raise ValueError(f"depth lookup parameters out of range: {self}")
-
-    def __call__(self, depth: npt.NDArray[np.floating], uv: F64) -> F64:
-        """Depth (m) at each pixel of ``uv (..., 2)`` in a depth image in metres; NaN where none."""
-        shape = uv.shape[:-1]
-        uv = uv.reshape(-1, 2)
-        out = np.full(len(uv), np.nan)
-        h, w = depth.shape
-        inside = np.isfinite(uv).all(axis=1)
-        inside[inside] = (
-            (uv[inside] >= -0.5).all(axis=1) & (uv[inside, 0] < w - 0.5) & (uv[inside, 1] < h - 0.5)
-        )
-        if not inside.any():
-            return out.reshape(shape)
-        r = self.radius
-        centre = np.rint(uv[inside]).astype(np.intp)
-        offsets = np.arange(-r, r + 1)
-        cols = np.clip(centre[:, 0, None, None] + offsets[None, None, :], 0, w - 1)
-        rows = np.clip(centre[:, 1, None, None] + offsets[None, :, None], 0, h - 1)
-        window = depth[rows, cols].reshape(len(centre), -1).astype(np.float64)
-        window[~((window >= self.min_depth) & (window <= self.max_depth))] = np.inf
-        # Sorted rows turn the percentile, the band and the median into index arithmetic
-        # (np.nanpercentile and np.nanmedian cost about 1 ms per call here).
-        window.sort(axis=1)
-        count = np.isfinite(window).sum(axis=1)
-        position = 0.25 * np.maximum(count - 1, 0)
-        low = np.floor(position).astype(np.intp)
-        high = np.minimum(low + 1, np.maximum(count - 1, 0))
-        a = np.take_along_axis(window, low[:, None], 1)[:, 0]
-        b = np.take_along_axis(window, high[:, None], 1)[:, 0]
-        with np.errstate(invalid="ignore"):  # inf - inf in rows with no reading; masked below
-            front = a + (position - low) * np.where(high > low, b - a, 0.0)
-        kept = (window <= (front + self.band)[:, None]).sum(axis=1)
-        lo = np.take_along_axis(window, np.maximum(kept - 1, 0)[:, None] // 2, 1)[:, 0]
-        hi = np.take_along_axis(window, (kept // 2)[:, None], 1)[:, 0]
-        result = np.where((count >= self.min_valid) & (kept >= self.min_valid), 0.5 * (lo + hi), np.nan)
-        out[inside] = result
-        return out.reshape(shape)
-
-
-@dataclass(frozen=True)
 class Camera:
     """Intrinsics, the depth image's scale, and where the camera is in the world."""
 
@@ -179,3 +127,6 @@ def level_camera(height: float = 0.0, pitch: float = 0.0) -> F64:
     out[:3, :3] = tilt @ OPTICAL_TO_WORLD
     out[:3, 3] = [0.0, 0.0, height]
     return out
+
+
+__all__ = ["OPTICAL_TO_WORLD", "Camera", "DepthLookup", "Intrinsics", "level_camera"]

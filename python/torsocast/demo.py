@@ -61,9 +61,9 @@ class TruthCheck:
         self.azimuth_errors.append(abs(float(wrap_angle(pose[3] - now[3]))))
         self.centre_errors.append(float(np.linalg.norm(pose[:2] - now[:2])))
         ahead = result.forecasts.get(person.detection) if person is not None else None
-        if ahead is None or person.track is None or person.track.last_time is None:
+        if ahead is None or person is None or person.last_time is None:
             return
-        origin = person.track.last_time  # forecasts count from the last grid sample
+        origin = person.last_time  # forecasts count from the last grid sample
         checked = 0
         for h, predicted in zip(self.horizons, ahead):
             then = self.at(origin + h)

@@ -1,9 +1,8 @@
-"""The whole per-frame chain of DESIGN.md: keypoint model, depth lifting, tracking with one
-forecaster per person, with the time each stage takes."""
+"""The whole per-frame chain: the keypoint model (here, onnxruntime), then one core call per frame
+for the rest (depth lifting, tracking, one forecaster per person), with the time each takes."""
 
 from __future__ import annotations
 
-import dataclasses
 import time
 from collections import defaultdict
 from collections.abc import Sequence
@@ -11,15 +10,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._core import TimeNotIncreasingError
-from .camera import DepthLookup
+from ._core import TimeNotIncreasingError, TorsocastError
 from .keypoints import Detections, KeypointModel
-from .lifting import lift
 from .sources import Frame
-from .track import F64
-from .tracker import Result, Tracker, TrackerConfig
+from .tracker import F64, Tracker, TrackerConfig, TrackOutcome
 
-STAGES = ("model", "lifting", "tracking", "forecasting")
+#: What :meth:`Pipeline.timing` reports: the model, and the core's call (lifting, tracking and
+#: forecasting together).
+STAGES = ("model", "tracking")
 
 
 class BadFrameError(ValueError):
@@ -32,7 +30,8 @@ class FrameResult:
     detections: Detections
     joints: F64 | None
     """``(people, 17, 3)`` world joints, None for a colour-only frame."""
-    people: list[Result]
+    people: list[TrackOutcome]
+    """One outcome per detection (empty for a colour-only frame)."""
     forecasts: dict[int, F64]
     """Detection index -> ``(horizons, 5)`` forecast of its confirmed track."""
     intervals: dict[int, F64] = field(default_factory=dict)
@@ -45,7 +44,6 @@ class Pipeline:
     model: KeypointModel
     horizons: Sequence[float] = (0.4, 1.0)
     tracker_config: TrackerConfig = field(default_factory=TrackerConfig)
-    lookup: DepthLookup = field(default_factory=DepthLookup)
     seconds: dict[str, float] = field(default_factory=lambda: defaultdict(float))
     frames: int = 0
     last_time: float | None = None
@@ -55,8 +53,8 @@ class Pipeline:
             raise ValueError(f"horizons must be positive seconds, got {list(self.horizons)}")
         if getattr(self.model, "faces_on_backs", False):
             # The nose is no evidence of the chest's side for a model that sees faces on backs.
-            track = dataclasses.replace(self.tracker_config.track, face_weight=0.0)
-            self.tracker_config = dataclasses.replace(self.tracker_config, track=track)
+            person = self.tracker_config.person.replace(face_weight=0.0)
+            self.tracker_config = self.tracker_config.replace(person=person)
         self.tracker = Tracker(self.tracker_config)
 
     def __call__(self, frame: Frame) -> FrameResult:
@@ -82,34 +80,45 @@ class Pipeline:
                 f"frame {frame.index}: the keypoint model gave scores outside 0..1 "
                 f"(from {np.nanmin(scores):g} to {np.nanmax(scores):g}); is it a keypoint model?"
             )
-        self.last_time = frame.time
         clock = self._lap("model", clock)
         if frame.depth is None or frame.camera is None:
+            self.last_time = frame.time
             self.frames += 1
             return FrameResult(frame, detections, None, [], {})
-        joints = lift(detections.keypoints, frame.depth, frame.camera, self.lookup)
-        # A keypoint the model barely believes in is missing, not a 3D joint.
-        joints[detections.keypoints[..., 2] < self.tracker_config.track.min_score] = np.nan
-        clock = self._lap("lifting", clock)
-        return self.track(frame, detections, joints, clock)
+        camera = frame.camera
+        k = camera.intrinsics
+        try:
+            joints, people = self.tracker.step(
+                frame.time,
+                detections.keypoints,
+                frame.depth,
+                (k.fx, k.fy, k.cx, k.cy),
+                k.coefficients,
+                camera.camera_to_world,
+                list(self.horizons),
+            )
+        except TorsocastError as e:  # the tracker refused the frame and changed nothing
+            raise BadFrameError(f"frame {frame.index}: {e}") from e
+        self.last_time = frame.time
+        return self._finish(frame, detections, joints, people, clock)
 
     def track(self, frame: Frame, detections: Detections, joints: F64, clock: float) -> FrameResult:
-        """The tracking and forecasting stages on already lifted joints."""
+        """The tracking and forecasting stages on already lifted joints (a replay of cached
+        detections)."""
         assert frame.camera is not None
         position = np.asarray(frame.camera.camera_to_world)[:3, 3]
-        people = self.tracker.update(frame.time, joints, detections.keypoints[..., 2], position)
-        clock = self._lap("tracking", clock)
-        forecasts, intervals = {}, {}
-        for person in people:
-            if person.track_id is not None and person.track is not None:
-                ahead = person.track.forecast(list(self.horizons))
-                if ahead is not None:
-                    forecasts[person.detection] = ahead
-                    spread = person.track.intervals(list(self.horizons))
-                    if spread is not None:
-                        intervals[person.detection] = spread
-        self._lap("forecasting", clock)
+        scores = detections.keypoints[..., 2]
+        people = self.tracker.update(frame.time, joints, scores, position, list(self.horizons))
+        self.last_time = frame.time
+        return self._finish(frame, detections, joints, people, clock)
+
+    def _finish(
+        self, frame: Frame, detections: Detections, joints: F64, people: list[TrackOutcome], clock: float
+    ) -> FrameResult:
+        self._lap("tracking", clock)
         self.frames += 1
+        forecasts = {p.detection: p.forecast for p in people if p.forecast is not None}
+        intervals = {p.detection: p.intervals for p in people if p.intervals is not None}
         return FrameResult(frame, detections, joints, people, forecasts, intervals)
 
     def _lap(self, stage: str, since: float) -> float:

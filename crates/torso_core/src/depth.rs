@@ -59,10 +59,6 @@ impl<'a> DepthImage<'a> {
     pub fn height(&self) -> usize {
         self.height
     }
-
-    fn at(&self, column: usize, row: usize) -> f64 {
-        f64::from(self.data[row * self.width + column])
-    }
 }
 
 /// How a keypoint's depth is read: the median of the valid readings in a `(2 radius + 1)²`
@@ -91,6 +87,28 @@ impl Default for DepthLookup {
 }
 
 impl DepthLookup {
+    /// Reads one pixel of every row of the windows around `pixels` and throws it away: a depth
+    /// image fresh from a sensor is not in the cache, and these independent reads fetch the
+    /// rows in parallel, where [`depth_at`](Self::depth_at)'s window-by-window reads would wait
+    /// for each in turn. Call it before looking up many keypoints of one image.
+    pub fn prefetch(&self, image: &DepthImage<'_>, pixels: impl Iterator<Item = [f64; 2]>) {
+        let r = self.radius.min(MAX_RADIUS) as isize;
+        let (width, height) = (image.width as isize, image.height as isize);
+        let mut sink = 0.0f32;
+        for [u, v] in pixels {
+            if !(u >= -0.5 && v >= -0.5 && u < width as f64 - 0.5 && v < height as f64 - 0.5) {
+                continue;
+            }
+            let (cu, cv) = (u.round_ties_even() as isize, v.round_ties_even() as isize);
+            for row in (cv - r).max(0)..=(cv + r).min(height - 1) {
+                for column in [(cu - r).max(0), (cu + r).min(width - 1)] {
+                    sink += image.data[(row * width + column) as usize];
+                }
+            }
+        }
+        std::hint::black_box(sink);
+    }
+
     pub fn validate(&self) -> Result<()> {
         if self.radius > MAX_RADIUS {
             return Err(Error::InvalidArgument {
@@ -134,39 +152,129 @@ impl DepthLookup {
         }
         let r = self.radius.min(MAX_RADIUS) as isize;
         let (cu, cv) = (u.round_ties_even() as isize, v.round_ties_even() as isize);
-        let mut window = [f64::INFINITY; MAX_WINDOW];
-        let mut n = 0;
-        for dv in -r..=r {
-            let row = (cv + dv).clamp(0, image.height as isize - 1) as usize;
-            for du in -r..=r {
-                let column = (cu + du).clamp(0, image.width as isize - 1) as usize;
-                let z = image.at(column, row);
-                window[n] = if z >= self.min_depth && z <= self.max_depth {
-                    z
-                } else {
-                    f64::INFINITY
-                };
-                n += 1;
+        let (width, height) = (image.width as isize, image.height as isize);
+        // Valid readings are non-negative, so their bit patterns order as their values do, and
+        // integer comparisons are the cheapest there are.
+        let mut readings = [0u32; MAX_WINDOW];
+        let mut count = 0;
+        let mut take = |z: f32| {
+            let metres = f64::from(z);
+            if metres >= self.min_depth && metres <= self.max_depth {
+                readings[count] = (z + 0.0).to_bits(); // -0.0 as +0.0
+                count += 1;
+            }
+        };
+        if cu >= r && cv >= r && cu + r < width && cv + r < height {
+            // Inside the image: whole rows of the window at once.
+            for row in cv - r..=cv + r {
+                let start = (row * width + cu - r) as usize;
+                for &z in &image.data[start..=start + 2 * r as usize] {
+                    take(z);
+                }
+            }
+        } else {
+            for dv in -r..=r {
+                let row = (cv + dv).clamp(0, height - 1) as usize;
+                for du in -r..=r {
+                    let column = (cu + du).clamp(0, width - 1) as usize;
+                    take(image.data[row * image.width + column]);
+                }
             }
         }
-        let window = &mut window[..n];
-        window.sort_unstable_by(f64::total_cmp);
-        let count = window.iter().take_while(|z| z.is_finite()).count();
         if count < self.min_valid {
             return f64::NAN;
         }
+        let readings = &mut readings[..count];
+        readings.sort_unstable();
+        let metres = |i: usize| f64::from(f32::from_bits(readings[i]));
         // The 25th percentile with linear interpolation (NumPy's default).
         let position = 0.25 * (count - 1) as f64;
         let low = position.floor() as usize;
         let high = (low + 1).min(count - 1);
-        let front = window[low] + (position - low as f64) * (window[high] - window[low]);
-        let kept = window[..count]
-            .iter()
-            .take_while(|&&z| z <= front + self.band)
-            .count();
+        let front = metres(low) + (position - low as f64) * (metres(high) - metres(low));
+        // The median of the readings within the band to the front: a prefix of the sorted ones.
+        let limit = front + self.band;
+        let kept = readings.partition_point(|&b| f64::from(f32::from_bits(b)) <= limit);
         if kept < self.min_valid {
             return f64::NAN;
         }
-        0.5 * (window[(kept - 1) / 2] + window[kept / 2])
+        0.5 * (metres((kept - 1) / 2) + metres(kept / 2))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The lookup written out plainly: every window pixel (edges repeated), sorted as floats.
+    fn reference(lookup: &DepthLookup, data: &[f32], w: usize, h: usize, [u, v]: [f64; 2]) -> f64 {
+        if !(u >= -0.5 && v >= -0.5 && u < w as f64 - 0.5 && v < h as f64 - 0.5) {
+            return f64::NAN;
+        }
+        let r = lookup.radius as isize;
+        let (cu, cv) = (u.round_ties_even() as isize, v.round_ties_even() as isize);
+        let mut valid = Vec::new();
+        for dv in -r..=r {
+            for du in -r..=r {
+                let row = (cv + dv).clamp(0, h as isize - 1) as usize;
+                let col = (cu + du).clamp(0, w as isize - 1) as usize;
+                let z = f64::from(data[row * w + col]);
+                if z >= lookup.min_depth && z <= lookup.max_depth {
+                    valid.push(z);
+                }
+            }
+        }
+        valid.sort_by(f64::total_cmp);
+        if valid.len() < lookup.min_valid {
+            return f64::NAN;
+        }
+        let p = 0.25 * (valid.len() - 1) as f64;
+        let (lo, hi) = (
+            p.floor() as usize,
+            (p.floor() as usize + 1).min(valid.len() - 1),
+        );
+        let front = valid[lo] + (p - lo as f64) * (valid[hi] - valid[lo]);
+        let kept: Vec<f64> = valid
+            .into_iter()
+            .filter(|&z| z <= front + lookup.band)
+            .collect();
+        if kept.len() < lookup.min_valid {
+            return f64::NAN;
+        }
+        0.5 * (kept[(kept.len() - 1) / 2] + kept[kept.len() / 2])
+    }
+
+    #[test]
+    fn the_lookup_matches_its_plain_definition_inside_at_the_borders_and_on_holes() {
+        let (w, h) = (37usize, 23usize);
+        let mut state = 7u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let levels = [0.0, f32::NAN, 1.0, 1.05, 1.1, 1.3, 2.5, 11.0];
+        let data: Vec<f32> = (0..w * h)
+            .map(|_| levels[(next() * levels.len() as f64) as usize] + 0.01 * next() as f32)
+            .collect();
+        let image = DepthImage::new(&data, w, h).unwrap();
+        for radius in [0, 1, 3] {
+            let lookup = DepthLookup {
+                radius,
+                min_valid: 1.max(radius),
+                ..DepthLookup::default()
+            };
+            for _ in 0..400 {
+                let uv = [next() * 40.0 - 2.0, next() * 26.0 - 2.0];
+                let got = lookup.depth_at(&image, uv);
+                let want = reference(&lookup, &data, w, h, uv);
+                assert!(
+                    got == want || (got.is_nan() && want.is_nan()),
+                    "{uv:?}: {got} {want}"
+                );
+            }
+        }
+        assert!(DepthImage::new(&data, w, h + 1).is_err());
     }
 }

@@ -205,6 +205,19 @@ pub const MIN_RELATIVE_WEIGHT: f64 = 1e-9;
 /// Derivatives `d_ck` per component, in seconds.
 type Derivatives = [[f64; MAX_DEGREE + 1]; 5];
 
+/// Refuses a horizon that is not a finite, non-negative number of seconds: the rule of every
+/// forecast.
+pub fn check_horizons(horizons: &[f64]) -> Result<()> {
+    match horizons.iter().find(|h| !(h.is_finite() && **h >= 0.0)) {
+        Some(&value) => Err(Error::InvalidArgument {
+            name: "horizons",
+            expected: "finite, non-negative horizons in seconds",
+            value,
+        }),
+        None => Ok(()),
+    }
+}
+
 /// One tracked person's forecaster. Every buffer is sized in [`Forecaster::new`]; `update` and
 /// `forecast` never touch the heap.
 #[derive(Clone, Debug)]
@@ -213,6 +226,9 @@ pub struct Forecaster {
     step: f64,
     history: History,
     engine: Engine,
+    /// The fit of the history as it is now (end derivatives and their order), once computed:
+    /// a track's self-check and its forecast ask for the same fit in one frame.
+    fit: Option<(Derivatives, usize)>,
 }
 
 #[derive(Clone, Debug)]
@@ -295,6 +311,7 @@ impl Forecaster {
             config,
             step,
             history: History::new(capacity, config.rate_hz, max_gap_steps),
+            fit: None,
             engine,
         })
     }
@@ -330,6 +347,7 @@ impl Forecaster {
     /// Turns the whole history to face the other way (see [`Person`](crate::Person): a track
     /// that had the body's sides the wrong way round).
     pub fn flip(&mut self) {
+        self.fit = None;
         self.history.flip();
     }
 
@@ -350,13 +368,16 @@ impl Forecaster {
 
     /// Forgets the history (a new track).
     pub fn reset(&mut self) {
+        self.fit = None;
         self.history.clear();
     }
 
     /// Adds a pose `[x, y, z, azimuth, elevation]` observed at time `t` (s) with confidence
     /// `weight` (relative; the spline divides by the window's mean). Baselines ignore the weight.
     pub fn update(&mut self, pose: Pose, t: f64, weight: f64) -> Result<UpdateReport> {
-        self.history.push(pose, t, weight)
+        let report = self.history.push(pose, t, weight)?;
+        self.fit = None;
+        Ok(report)
     }
 
     /// Forecasts the pose `horizons[h]` seconds after the last sample into `out[h]`. Azimuth
@@ -387,17 +408,14 @@ impl Forecaster {
     /// forecast makes.
     fn derivatives(&mut self, horizons: &[f64], out_len: usize) -> Result<(Derivatives, usize)> {
         check_len("out", out_len, horizons.len())?;
-        if let Some(&value) = horizons.iter().find(|h| !(h.is_finite() && **h >= 0.0)) {
-            return Err(Error::InvalidArgument {
-                name: "horizons",
-                expected: "finite, non-negative horizons in seconds",
-                value,
-            });
-        }
+        check_horizons(horizons)?;
         let need = self.min_samples();
         let n = self.history.len();
         if n < need {
             return Err(Error::NotEnoughHistory { have: n, need });
+        }
+        if let Some(fit) = self.fit {
+            return Ok(fit);
         }
         let mut d: Derivatives = [[0.0; MAX_DEGREE + 1]; 5];
         let order = match &mut self.engine {
@@ -420,6 +438,7 @@ impl Forecaster {
             }
             Engine::Spline(e) => e.derivatives(&self.history, &mut d)?,
         };
+        self.fit = Some((d, order));
         Ok((d, order))
     }
 

@@ -187,6 +187,19 @@ pub struct Observation {
     pub grid: GridReport,
 }
 
+/// Refuses horizons that [`Person::forecast`] and [`Person::intervals`] would: more than
+/// [`MAX_HORIZONS`], or one that is not a finite, non-negative number of seconds.
+pub fn check_horizons(horizons: &[f64]) -> Result<()> {
+    if horizons.len() > MAX_HORIZONS {
+        return Err(Error::InvalidArgument {
+            name: "horizons",
+            expected: "at most MAX_HORIZONS (32) horizons per call",
+            value: horizons.len() as f64,
+        });
+    }
+    crate::forecaster::check_horizons(horizons)
+}
+
 /// One person's state across frames.
 #[derive(Clone, Debug)]
 pub struct Person {
@@ -365,15 +378,12 @@ impl Person {
         if self.forecaster.len() < self.forecaster.min_samples() {
             return Ok(false);
         }
-        match &self.check {
+        match &mut self.check {
             None => self.forecaster.forecast(horizons, out)?,
             Some(check) => {
-                if horizons.len() > MAX_HORIZONS {
-                    return Err(Error::InvalidArgument {
-                        name: "horizons",
-                        expected: "at most MAX_HORIZONS (32) horizons per call",
-                        value: horizons.len() as f64,
-                    });
+                check_horizons(horizons)?;
+                for &h in horizons {
+                    check.prepare(h);
                 }
                 let plain = &mut self.scratch[..horizons.len()];
                 self.forecaster.forecast_both(horizons, out, plain)?;
@@ -412,13 +422,7 @@ impl Person {
                 got: out.len(),
             });
         }
-        if let Some(&value) = horizons.iter().find(|h| !(h.is_finite() && **h >= 0.0)) {
-            return Err(Error::InvalidArgument {
-                name: "horizons",
-                expected: "finite, non-negative horizons in seconds",
-                value,
-            });
-        }
+        check_horizons(horizons)?;
         let Some(check) = &self.check else {
             return Ok(false);
         };

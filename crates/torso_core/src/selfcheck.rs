@@ -60,6 +60,11 @@ pub struct SelfCheck {
     sums: [[[[f64; CANDIDATES]; CANDIDATES]; 5]; H],
     scored: [f64; H],
     last_scored: [Option<f64>; H],
+    /// Per checked horizon and component, the minimum-variance weights of `sums` where
+    /// `fresh` says they are up to date ([`prepare`](SelfCheck::prepare)): a track's forecast
+    /// and its intervals in one frame share them.
+    mix: [[[f64; CANDIDATES]; 5]; H],
+    fresh: [bool; H],
 }
 
 impl SelfCheck {
@@ -73,6 +78,8 @@ impl SelfCheck {
             sums: [[[[0.0; CANDIDATES]; CANDIDATES]; 5]; H],
             scored: [0.0; H],
             last_scored: [None; H],
+            mix: [UNCHECKED; H],
+            fresh: [false; H],
         }
     }
 
@@ -93,6 +100,7 @@ impl SelfCheck {
                     continue;
                 }
                 p.pending[k] = false;
+                self.fresh[k] = false;
                 let decay =
                     self.last_scored[k].map_or(1.0, |last| (-(t - last).max(0.0) / MEMORY).exp());
                 self.last_scored[k] = Some(t);
@@ -124,23 +132,47 @@ impl SelfCheck {
     pub fn weights(&self, horizon: f64) -> [[f64; CANDIDATES]; 5] {
         let nearest = self.nearest(horizon);
         match self.checked(horizon) {
-            Some(k) if k == nearest => {
-                std::array::from_fn(|c| convex_min_variance(&self.sums[k][c], allowed(c)))
-            }
+            Some(k) if k == nearest => self.mix(k),
             // Not yet checked this far: a shorter check's weights serve; for the angles, its
             // trust in a trend goes to the damped one, which fades with the horizon (a turn does
             // not go on for ever; a walk mostly does).
-            Some(k) => std::array::from_fn(|c| {
-                let [hold, damped, plain, velocity] =
-                    convex_min_variance(&self.sums[k][c], allowed(c));
-                if c < 3 {
-                    [hold, damped, plain, velocity]
-                } else {
-                    [hold, damped + plain + velocity, 0.0, 0.0]
-                }
-            }),
+            Some(k) => {
+                let mix = self.mix(k);
+                std::array::from_fn(|c| {
+                    let [hold, damped, plain, velocity] = mix[c];
+                    if c < 3 {
+                        [hold, damped, plain, velocity]
+                    } else {
+                        [hold, damped + plain + velocity, 0.0, 0.0]
+                    }
+                })
+            }
             None => UNCHECKED,
         }
+    }
+
+    /// Brings the weights that serve `horizon` up to date, so that later calls of
+    /// [`weights`](Self::weights) and [`spread`](Self::spread) in the same frame read them
+    /// instead of solving for them again.
+    pub fn prepare(&mut self, horizon: f64) {
+        if let Some(k) = self.checked(horizon) {
+            if !self.fresh[k] {
+                self.mix[k] = self.solve(k);
+                self.fresh[k] = true;
+            }
+        }
+    }
+
+    fn mix(&self, k: usize) -> [[f64; CANDIDATES]; 5] {
+        if self.fresh[k] {
+            self.mix[k]
+        } else {
+            self.solve(k)
+        }
+    }
+
+    fn solve(&self, k: usize) -> [[f64; CANDIDATES]; 5] {
+        std::array::from_fn(|c| convex_min_variance(&self.sums[k][c], allowed(c)))
     }
 
     /// Per component, the root-mean-square error the mix of [`weights`](Self::weights) made on
@@ -198,6 +230,8 @@ impl SelfCheck {
         self.sums = [[[[0.0; CANDIDATES]; CANDIDATES]; 5]; H];
         self.scored = [0.0; H];
         self.last_scored = [None; H];
+        self.mix = [UNCHECKED; H];
+        self.fresh = [false; H];
     }
 }
 

@@ -206,6 +206,11 @@ impl Tracker {
         &self.config
     }
 
+    /// Live tracks, tentative ones included.
+    pub fn live(&self) -> usize {
+        self.active.len()
+    }
+
     /// Time of the last accepted frame.
     pub fn last_time(&self) -> Option<f64> {
         self.last_t
@@ -251,6 +256,12 @@ impl Tracker {
         self.check(t, keypoints.iter().map(|k| k.map(|p| p[2])), position)?;
         self.joints.clear();
         self.scores.clear();
+        let seen = keypoints
+            .iter()
+            .flatten()
+            .filter(|p| self.config.person.sees(p[2]))
+            .map(|p| [p[0], p[1]]);
+        self.config.depth.prefetch(depth, seen);
         for person in keypoints {
             let scores = person.map(|p| p[2]);
             let joints = std::array::from_fn(|j| {
@@ -525,6 +536,15 @@ mod tests {
     }
 
     const SEEN: [f64; N_JOINTS] = [0.9; N_JOINTS];
+
+    #[test]
+    fn the_per_frame_types_can_move_to_and_be_shared_with_other_threads() {
+        fn send_and_sync<T: Send + Sync>() {}
+        send_and_sync::<Tracker>();
+        send_and_sync::<Person>();
+        send_and_sync::<crate::Forecaster>();
+        send_and_sync::<DepthImage<'_>>();
+    }
 
     #[test]
     fn a_reset_person_behaves_as_a_new_one() {

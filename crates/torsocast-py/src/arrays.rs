@@ -62,3 +62,35 @@ pub fn matrix<'py, const C: usize>(
 pub fn vector<'py>(py: Python<'py>, values: &[f64]) -> Bound<'py, PyArray1<f64>> {
     PyArray1::from_slice(py, values)
 }
+
+/// A depth image's pixels in row-major order (borrowed when the array lies so) with its size.
+pub struct DepthPixels<'a> {
+    pub data: Cow<'a, [f32]>,
+    pub width: usize,
+    pub height: usize,
+}
+
+/// The `(height, width)` depth image of `depth`, in metres.
+pub fn depth_image<'a>(
+    depth: &'a numpy::PyArrayLikeDyn<'_, f32, numpy::AllowTypeChange>,
+) -> PyResult<DepthPixels<'a>> {
+    use numpy::PyUntypedArrayMethods;
+    let shape = depth.shape();
+    if shape.len() != 2 {
+        return Err(shape_error("depth", "(height, width) in metres", shape));
+    }
+    let view = depth.as_array();
+    let data = match view.as_slice() {
+        Some(_) => Cow::Borrowed(
+            depth
+                .as_slice()
+                .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?,
+        ),
+        None => Cow::Owned(view.iter().copied().collect()),
+    };
+    Ok(DepthPixels {
+        data,
+        width: shape[1],
+        height: shape[0],
+    })
+}

@@ -7,16 +7,23 @@ use numpy::{
     PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
 use torso_core::{Extrapolation, FilterMode, FilterSplineConfig, LambdaUnit, Method, Pose};
 
 /// ForecasterConfig(method="filter_spline", *, ...): every forecasting choice, validated.
-#[pyclass(module = "torsocast._core", frozen)]
+#[pyclass(module = "torsocast._core", frozen, eq)]
 #[derive(Clone)]
 pub struct ForecasterConfig {
     pub inner: torso_core::ForecasterConfig,
     /// Kept for every method so that the getters answer whatever `method` is.
     spline: FilterSplineConfig,
     velocity_window: Option<f64>,
+}
+
+impl PartialEq for ForecasterConfig {
+    fn eq(&self, other: &Self) -> bool {
+        self.inner == other.inner
+    }
 }
 
 fn parse<T: Copy>(name: &str, got: &str, options: &[(&str, T)]) -> PyResult<T> {
@@ -216,6 +223,29 @@ impl ForecasterConfig {
         Self::live_config()
     }
 
+    /// Pickling by keywords: every field, as `__new__` takes them.
+    fn __getnewargs_ex__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyTuple>, Bound<'py, PyDict>)> {
+        let kwargs = PyDict::new(py);
+        kwargs.set_item("rate_hz", self.rate_hz())?;
+        kwargs.set_item("history", self.history())?;
+        kwargs.set_item("max_gap", self.max_gap())?;
+        kwargs.set_item("fast_path", self.fast_path())?;
+        kwargs.set_item("velocity_window", self.velocity_window())?;
+        kwargs.set_item("filter", self.filter())?;
+        kwargs.set_item("filter_order", self.filter_order())?;
+        kwargs.set_item("cutoff_hz", self.cutoff_hz())?;
+        kwargs.set_item("filter_components", self.filter_components())?;
+        kwargs.set_item("degree", self.degree())?;
+        kwargs.set_item("lam", self.lam())?;
+        kwargs.set_item("lambda_unit", self.lambda_unit())?;
+        kwargs.set_item("extrapolation", self.extrapolation())?;
+        kwargs.set_item("damping", self.damping())?;
+        Ok((PyTuple::new(py, [self.method()])?, kwargs))
+    }
+
     fn __repr__(&self) -> String {
         let grid = format!(
             "rate_hz={}, history={}, max_gap={}, fast_path={}",
@@ -235,10 +265,13 @@ impl ForecasterConfig {
                 window.map_or("None".to_string(), |w| w.to_string())
             ),
             Method::FilterSpline(s) => format!(
-                "ForecasterConfig('filter_spline', {grid}, filter='{}', filter_order={}, cutoff_hz={}, degree={}, lam={}, lambda_unit='{}', extrapolation='{}'{})",
+                "ForecasterConfig('filter_spline', {grid}, filter='{}', filter_order={}, cutoff_hz={}, filter_components=({}), degree={}, lam={}, lambda_unit='{}', extrapolation='{}'{})",
                 name_of(s.filter, &FILTERS),
                 s.filter_order,
                 s.cutoff_hz,
+                s.filter_components
+                    .map(|c| if c { "True" } else { "False" })
+                    .join(", "),
                 s.degree,
                 s.lam,
                 name_of(s.lambda_unit, &UNITS),
@@ -270,7 +303,7 @@ impl ForecasterConfig {
         Self::from_core(torso_core::ForecasterConfig::live())
     }
 
-    fn from_core(inner: torso_core::ForecasterConfig) -> Self {
+    pub fn from_core(inner: torso_core::ForecasterConfig) -> Self {
         let (spline, velocity_window) = match inner.method {
             Method::FilterSpline(s) => (s, None),
             Method::ConstantVelocity { window } => (FilterSplineConfig::default(), window),

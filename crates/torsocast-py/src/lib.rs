@@ -3,6 +3,7 @@
 
 mod arrays;
 mod assignment;
+mod config;
 mod errors;
 mod filter;
 mod forecaster;
@@ -10,6 +11,7 @@ mod gating;
 mod person;
 mod plane;
 mod spline;
+mod tracker;
 
 use pyo3::prelude::*;
 
@@ -32,6 +34,12 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(assignment::linear_assignment, m)?)?;
     m.add_class::<person::Person>()?;
     m.add_class::<person::Observation>()?;
+    m.add_class::<config::PersonConfig>()?;
+    m.add_class::<config::DepthLookup>()?;
+    m.add_class::<config::TrackerConfig>()?;
+    m.add_class::<tracker::Tracker>()?;
+    m.add_class::<tracker::TrackOutcome>()?;
+    m.add_class::<tracker::TrackState>()?;
     m.add("MAX_DEGREE", torso_core::bspline::MAX_DEGREE)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

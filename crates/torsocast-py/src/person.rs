@@ -1,25 +1,21 @@
 //! One tracked person's per-frame chain, one call per person and frame.
 
 use crate::arrays::{contiguous, matrix};
+use crate::config::PersonConfig;
 use crate::errors::{shape_error, to_py};
-use crate::forecaster::ForecasterConfig;
 use numpy::{
     AllowTypeChange, PyArray1, PyArray2, PyArrayLike1, PyArrayLike2, PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use torso_core::coco::{Joints, N_JOINTS};
-use torso_core::sides::FacingConfig;
-use torso_core::{Estimate, GateConfig, JointStatus, PersonConfig, Pose};
+use torso_core::{Estimate, JointStatus, Pose};
 
-/// Person(forecaster=None, *, gate_threshold=None, gate_max_replacements=None, min_score=None,
-/// facing_memory=None, face_weight=None, motion_weight=None, self_check=None,
-/// occlusion_ratio=None): a parameter
-/// left out takes the core's default (`PersonConfig::default()`, listed by `parameters`).
+/// Person(config=None): one tracked person's per-frame chain (`torso_core::Person`), with
+/// `PersonConfig()`'s defaults unless given.
 #[pyclass(module = "torsocast._core")]
 pub struct Person {
     inner: torso_core::Person,
-    forecaster: ForecasterConfig,
     scratch: Vec<Pose>,
 }
 
@@ -44,7 +40,7 @@ impl Person {
 /// What a person's track made of one frame.
 #[pyclass(module = "torsocast._core", frozen)]
 pub struct Observation {
-    inner: torso_core::Observation,
+    pub inner: torso_core::Observation,
 }
 
 fn fixed<const N: usize>(name: &str, flat: &[f64], shape: &[usize]) -> PyResult<[f64; N]> {
@@ -55,62 +51,18 @@ fn fixed<const N: usize>(name: &str, flat: &[f64], shape: &[usize]) -> PyResult<
 #[pymethods]
 impl Person {
     #[new]
-    #[pyo3(signature = (
-        forecaster=None, *, gate_threshold=None, gate_max_replacements=None, min_score=None,
-        facing_memory=None, face_weight=None, motion_weight=None, self_check=None,
-        occlusion_ratio=None
-    ))]
-    #[allow(clippy::too_many_arguments)]
-    fn new(
-        forecaster: Option<PyRef<'_, ForecasterConfig>>,
-        gate_threshold: Option<f64>,
-        gate_max_replacements: Option<u32>,
-        min_score: Option<f64>,
-        facing_memory: Option<f64>,
-        face_weight: Option<f64>,
-        motion_weight: Option<f64>,
-        self_check: Option<bool>,
-        occlusion_ratio: Option<f64>,
-    ) -> PyResult<Self> {
-        // The defaults live in the core only, so that Python and Rust users get the same track.
-        let d = PersonConfig::default();
-        let forecaster = forecaster.map_or_else(ForecasterConfig::live_config, |c| c.clone());
-        let config = PersonConfig {
-            forecaster: forecaster.inner,
-            gate: GateConfig {
-                threshold: gate_threshold.unwrap_or(d.gate.threshold),
-                max_replacements: gate_max_replacements.unwrap_or(d.gate.max_replacements),
-            },
-            min_score: min_score.unwrap_or(d.min_score),
-            facing: FacingConfig {
-                memory: facing_memory.unwrap_or(d.facing.memory),
-                face_weight: face_weight.unwrap_or(d.facing.face_weight),
-                motion_weight: motion_weight.unwrap_or(d.facing.motion_weight),
-            },
-            self_check: self_check.unwrap_or(d.self_check),
-            occlusion_ratio: occlusion_ratio.unwrap_or(d.occlusion_ratio),
-        };
+    #[pyo3(signature = (config=None))]
+    fn new(config: Option<PyRef<'_, PersonConfig>>) -> PyResult<Self> {
+        let config = config.map_or_else(torso_core::PersonConfig::default, |c| c.inner);
         Ok(Self {
             inner: torso_core::Person::new(config).map_err(to_py)?,
-            forecaster,
             scratch: Vec::new(),
         })
     }
 
-    /// The scalar parameters in use, by their keyword names.
     #[getter]
-    fn parameters<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let c = self.inner.config();
-        let dict = PyDict::new(py);
-        dict.set_item("gate_threshold", c.gate.threshold)?;
-        dict.set_item("gate_max_replacements", c.gate.max_replacements)?;
-        dict.set_item("min_score", c.min_score)?;
-        dict.set_item("facing_memory", c.facing.memory)?;
-        dict.set_item("face_weight", c.facing.face_weight)?;
-        dict.set_item("motion_weight", c.facing.motion_weight)?;
-        dict.set_item("self_check", c.self_check)?;
-        dict.set_item("occlusion_ratio", c.occlusion_ratio)?;
-        Ok(dict)
+    fn config(&self) -> PersonConfig {
+        PersonConfig::from_core(*self.inner.config())
     }
 
     /// update(t, joints (17, 3), scores (17,), camera_position (3,)) -> Observation
@@ -175,11 +127,6 @@ impl Person {
     #[getter]
     fn min_samples(&self) -> usize {
         self.inner.forecaster().min_samples()
-    }
-
-    #[getter]
-    fn forecaster(&self) -> ForecasterConfig {
-        self.forecaster.clone()
     }
 }
 

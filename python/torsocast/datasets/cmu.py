@@ -2,7 +2,7 @@
 
 One frame per line, 117 numbers at 120 Hz: the root (Hips) position, absolute, y up, in CMU units,
 then 38 exponential maps (joint 0 is the root's rotation, also absolute). The skeleton below is
-the one of ``../shared/data/cmu/SKELETON.md`` (DMGNN's ``_some_variables``, offsets unscaled).
+that of DMGNN's ``_some_variables`` (offsets unscaled).
 :func:`load_clip` turns a file into ``(frames, 38, 3)`` joints in metres in the REP-103 world
 frame (x forward, y left, z up) that the rest of torsocast uses.
 
@@ -75,7 +75,7 @@ OFFSETS = np.array(
     ]
 )
 
-# Joint roles (SKELETON.md section 6).
+# Joint roles in DMGNN's 38-joint CMU skeleton.
 PELVIS, LEFT_HIP, LEFT_KNEE, LEFT_ANKLE, LEFT_TOE, LEFT_TOE_END = 0, 2, 3, 4, 5, 6
 RIGHT_HIP, RIGHT_KNEE, RIGHT_ANKLE, RIGHT_TOE, RIGHT_TOE_END = 8, 9, 10, 11, 12
 THORAX, NECK, HEAD, HEAD_TOP = 15, 17, 18, 19

@@ -1,7 +1,7 @@
 """Human3.6M exponential-map mocap (the text files of the motion-prediction literature) as torso
 pose series.
 
-The steps, each a function below, follow ``SKELETON.md`` of the data folder:
+The steps, each a function below:
 
 1. :func:`read_expmap`: one frame per line, 99 numbers, 50 Hz.
 2. :func:`integrate_root`: the root columns are per-frame *increments* (translation in the previous
@@ -114,7 +114,8 @@ CATEGORIES: dict[str, tuple[str, ...]] = {
 }
 
 #: Default torso joints and their side of the body: hips, thorax (neck base) and shoulders. 6 and 17
-#: are the left hip and shoulder (checked geometrically in SKELETON.md, section 2).
+#: are the left hip and shoulder (the skeleton names them LeftUpLeg and LeftArm; the left hip's rest
+#: offset is at +x, the body's left in the data's frame).
 TORSO_JOINTS: dict[int, str] = {1: "R", 6: "L", 13: "C", 17: "L", 25: "R"}
 
 #: Toe joints (right, left), whose positions over a sequence span the floor.

@@ -74,7 +74,7 @@ def _live(scene: RenderedScene, pipeline: Pipeline, record: dict[str, list] | No
     for frame in scene:
         result = pipeline(frame)
         owner = assign(
-            result.detections.keypoints, frame.extra["labels"], pipeline.tracker_config.track.min_score
+            result.detections.keypoints, frame.extra["labels"], pipeline.tracker_config.person.min_score
         )
         visible = scene.visible(frame)
         if record is not None:
@@ -115,7 +115,7 @@ def run_scene(
     changes after the model: tracking, the per-person chain, forecasting, scoring)."""
     scene = RenderedScene(spec, {a.motion: catalogue.motion(a.motion) for a in spec.actors})
     pipeline = Pipeline(model, horizons)
-    scorer = Scorer(scene, list(horizons), pipeline.tracker_config.track.min_score)
+    scorer = Scorer(scene, list(horizons), pipeline.tracker_config.person.min_score)
     path = _cache_file(cache, spec, model) if cache is not None else None
     record: dict[str, list] | None = defaultdict(list) if path is not None else None  # type: ignore[type-arg]
     replaying = path is not None and path.is_file()

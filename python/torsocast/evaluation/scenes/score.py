@@ -18,6 +18,7 @@ import numpy.typing as npt
 from ... import Forecaster, ForecasterConfig, TorsocastError, wrap_angle
 from ...pipeline import FrameResult
 from ...synthetic.scenes import RenderedScene
+from ...tracker import TrackOutcome
 
 F64 = npt.NDArray[np.float64]
 
@@ -87,7 +88,7 @@ class Scorer:
         self.scene, self.horizons, self.min_score = scene, horizons, min_score
         self.camera_xy = np.asarray(scene.camera.camera_to_world)[:2, 3]
         self.score = SceneScore()
-        self.velocity: dict[object, Forecaster] = {}
+        self.velocity: dict[int, Forecaster] = {}
         self.seen_ids: dict[int, list[tuple[float, int | None]]] = defaultdict(list)
         spec = scene.spec
         self.conditions = {
@@ -114,11 +115,11 @@ class Scorer:
         by_actor = {a: d for d, a in enumerate(owner) if a >= 0}
         self.score.false_positives += sum(1 for a in owner if a < 0)
         for person in result.people:  # the velocity reference sees what the tracks see
-            obs, track = person.observation, person.track
-            if obs is None or obs.pose is None or track is None:
+            obs = person.observation
+            if obs is None or obs.pose is None or person.key is None:
                 continue
-            # Keyed by the track itself (kept alive here): an id() of a dropped track can be reused.
-            f = self.velocity.setdefault(track, Forecaster(ForecasterConfig("constant_velocity")))
+            # Keyed by the track's key, unique over the tracker's life.
+            f = self.velocity.setdefault(person.key, Forecaster(ForecasterConfig("constant_velocity")))
             try:
                 f.update(obs.pose, t, 1.0)
             except TorsocastError:
@@ -139,13 +140,16 @@ class Scorer:
                 r[name].append(float(value))
             track_id = person.track_id if person is not None else None
             self.seen_ids[actor].append((t, track_id))
-            if pose is not None and person is not None and d in result.forecasts and person.track is not None:
+            if pose is not None and person is not None and d in result.forecasts:
                 spread = result.intervals.get(d)
-                self._forecasts(actor, t, pose, result.forecasts[d], spread, person.track)
+                self._forecasts(actor, t, pose, result.forecasts[d], spread, person)
 
-    def _forecasts(self, actor: int, t: float, pose: F64, ahead: F64, spread: F64 | None, track) -> None:  # type: ignore[no-untyped-def]
-        origin = track.last_time
-        velocity = self.velocity.get(track)
+    def _forecasts(
+        self, actor: int, t: float, pose: F64, ahead: F64, spread: F64 | None, person: TrackOutcome
+    ) -> None:
+        origin = person.last_time
+        assert origin is not None and person.key is not None  # a forecast has both
+        velocity = self.velocity.get(person.key)
         cv = None
         if velocity is not None and len(velocity) >= velocity.min_samples:
             cv = velocity.forecast(self.horizons)
