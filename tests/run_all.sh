@@ -8,6 +8,9 @@ python3 -m pip install --quiet ".[test]"
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets -- -D warnings
 cargo test --workspace
+# The Rust robot's example: a recorded walk through the engine, one confirmed track forecasting.
+replay=$(cargo run --quiet --example replay -p torso_core)
+grep -q "track 1: .* s ahead" <<< "$replay"
 python3 -m ruff check python tests benches
 python3 -m ruff format --check python tests benches
 python3 -m pytest tests

@@ -7,9 +7,12 @@
 //! Conventions: SI units (metres, seconds, radians); world frame as REP-103 (x forward, y left,
 //! z up); a missing joint is NaN; azimuth is unwrapped inside the forecaster.
 //!
-//! No I/O and no Python: other Rust robot code can depend on this crate directly. Objects that
-//! run per frame ([`Person`], [`Forecaster`], [`JointGate`], [`SmoothingSpline`], [`LowPass`],
-//! [`ZeroPhase`]) size every buffer at construction and never allocate afterwards.
+//! No I/O and no Python: other Rust robot code can depend on this crate directly. [`Tracker`]
+//! takes a frame's 2D keypoints and registered depth image to every person's pose and forecast
+//! in one call ([`camera`], [`depth`], [`assignment`], [`person`], [`forecaster`]). Objects that
+//! run per frame ([`Tracker`], [`Person`], [`Forecaster`], [`JointGate`], [`SmoothingSpline`],
+//! [`LowPass`], [`ZeroPhase`]) size every buffer at construction (a tracker: up to its busiest
+//! frame) and never allocate afterwards.
 //!
 //! ```
 //! use torso_core::{Forecaster, ForecasterConfig};
@@ -72,6 +75,11 @@ pub use tracker::{Outcome, TrackRef, Tracker, TrackerConfig};
 #[doc = include_str!("../../../README.md")]
 #[cfg(doctest)]
 pub struct ReadmeDoctests;
+
+/// The crate README's example, compiled and run as a doctest.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct CrateReadmeDoctests;
 
 /// A torso pose as the forecaster sees it: `[x, y, z, azimuth, elevation]` (m, m, m, rad, rad).
 pub type Pose = [f64; 5];
