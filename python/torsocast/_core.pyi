@@ -117,25 +117,33 @@ def fit_smoothing_spline(
 
 @final
 class ForecasterConfig:
+    """Every forecasting choice (``torso_core::ForecasterConfig``), validated and frozen; every
+    keyword left out takes the core's default (the thesis' forecaster with a damped
+    continuation). :meth:`options` lists the names each option takes."""
+
     def __new__(
         cls,
-        method: Literal["filter_spline", "const", "constant_velocity"] = "filter_spline",
+        method: Literal["filter_spline", "const", "constant_velocity"] | None = None,
         *,
-        rate_hz: float = 25.0,
-        history: float = 2.0,
-        max_gap: float = 0.4,
-        fast_path: bool = True,
+        rate_hz: float | None = None,
+        history: float | None = None,
+        max_gap: float | None = None,
+        fast_path: bool | None = None,
         velocity_window: float | None = None,
-        filter: Literal["off", "causal", "zero_phase"] = "zero_phase",
-        filter_order: int = 2,
-        cutoff_hz: float = 5.0,
-        filter_components: Sequence[bool] = ...,
-        degree: int = 1,
-        lam: float = 1.0,
-        lambda_unit: Literal["samples", "seconds"] = "samples",
-        extrapolation: Literal["polynomial", "linear", "damped"] = "damped",
+        filter: Literal["off", "causal", "zero_phase"] | None = None,
+        filter_order: int | None = None,
+        cutoff_hz: float | None = None,
+        filter_components: Sequence[bool] | None = None,
+        degree: int | None = None,
+        lam: float | None = None,
+        lambda_unit: Literal["samples", "seconds"] | None = None,
+        extrapolation: Literal["polynomial", "linear", "damped"] | None = None,
         damping: Sequence[float] | None = None,
     ) -> ForecasterConfig: ...
+    @staticmethod
+    def options() -> dict[str, list[str]]:
+        """The names each option takes: method, filter, lambda_unit, extrapolation."""
+    def __getnewargs_ex__(self) -> tuple[tuple[str], dict[str, object]]: ...
     @property
     def method(self) -> str: ...
     @property

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import COMPONENTS, Forecaster, ForecasterConfig, TorsocastError, __version__, wrap_angle
+from . import COMPONENTS, MAX_DEGREE, Forecaster, ForecasterConfig, TorsocastError, __version__, wrap_angle
 
 
 def _bench(args: argparse.Namespace) -> int:
@@ -80,7 +80,6 @@ def _forecast(args: argparse.Namespace) -> int:
 
 #: Where ``torsocast eval h36m`` looks when ``--data`` is not given.
 H36M_ENV = "TORSOCAST_H36M"
-H36M_GUESS = Path("../shared/data/h36m")
 
 
 def _eval_h36m(args: argparse.Namespace) -> int:
@@ -90,7 +89,7 @@ def _eval_h36m(args: argparse.Namespace) -> int:
     from .evaluation.methods import method_configs
     from .progress import Progress
 
-    data = args.data or os.environ.get(H36M_ENV) or (H36M_GUESS if H36M_GUESS.is_dir() else None)
+    data = args.data or os.environ.get(H36M_ENV)
     if data is None:
         print(f"no Human3.6M data: pass --data DIR or set {H36M_ENV}", file=sys.stderr)
         return 2
@@ -118,19 +117,14 @@ def _eval_h36m(args: argparse.Namespace) -> int:
     return 0
 
 
-#: Where ``torsocast eval scenes`` looks for its data and the multi-person model by default.
-CMU_GUESS = Path("../shared/data/cmu")
-YOLO_GUESS = Path("../shared/models/yolo11n-pose.onnx")
-
-
 def _eval_scenes(args: argparse.Namespace) -> int:
     from .evaluation.scenes import report
     from .evaluation.scenes.plan import CMU_ENV, FULL, QUICK, Catalogue, Size, data_folder
     from .evaluation.scenes.run import YOLO_ENV, Models, evaluate
 
-    cmu_root = data_folder(args.cmu, CMU_ENV, CMU_GUESS)
-    h36m_root = data_folder(args.h36m, H36M_ENV, H36M_GUESS)
-    yolo = args.yolo or os.environ.get(YOLO_ENV) or (YOLO_GUESS if YOLO_GUESS.is_file() else None)
+    cmu_root = data_folder(args.cmu, CMU_ENV)
+    h36m_root = data_folder(args.h36m, H36M_ENV)
+    yolo = args.yolo or os.environ.get(YOLO_ENV)
     size = QUICK if args.quick else FULL
     if args.scenes is not None:
         if args.scenes < 1:
@@ -283,17 +277,23 @@ def main(argv: list[str] | None = None) -> int:
     fc = sub.add_parser("forecast", help="forecast a torso pose track read as CSV (t,x,y,z,az,el[,w])")
     fc.add_argument("input", help="CSV file, or - for standard input")
     fc.add_argument("--horizons", default="0.4,1.0,2.0", help="seconds ahead, comma-separated")
+    # Defaults and choices are the core's (ForecasterConfig), never written here.
+    default, options = ForecasterConfig(), ForecasterConfig.options()
+    fc.add_argument("--method", default=default.method, choices=options["method"])
     fc.add_argument(
-        "--method", default="filter_spline", choices=["filter_spline", "const", "constant_velocity"]
+        "--degree",
+        type=int,
+        default=default.degree,
+        choices=range(MAX_DEGREE + 1),
+        help=f"spline degree N (0 to {MAX_DEGREE})",
     )
-    fc.add_argument("--degree", type=int, default=1, choices=range(5), help="spline degree N (0 to 4)")
-    fc.add_argument("--filter", default="zero_phase", choices=["off", "causal", "zero_phase"])
-    fc.add_argument("--rate", type=float, default=25.0, help="forecaster grid rate (Hz)")
-    fc.add_argument("--history", type=float, default=2.0, help="history length (s)")
+    fc.add_argument("--filter", default=default.filter, choices=options["filter"])
+    fc.add_argument("--rate", type=float, default=default.rate_hz, help="forecaster grid rate (Hz)")
+    fc.add_argument("--history", type=float, default=default.history, help="history length (s)")
     ev = sub.add_parser("eval", help="forecasting evaluation on a dataset")
     ev_sub = ev.add_subparsers(dest="dataset", required=True)
     h36 = ev_sub.add_parser("h36m", help="Human3.6M exponential-map files (research-only licence)")
-    h36.add_argument("--data", help=f"folder with S1/, S5/... (default: ${H36M_ENV}, else {H36M_GUESS})")
+    h36.add_argument("--data", help=f"folder with S1/, S5/... (default: ${H36M_ENV})")
     h36.add_argument(
         "--subjects", default="5", help="comma-separated subject numbers (5 is the test subject)"
     )
@@ -317,14 +317,12 @@ def main(argv: list[str] | None = None) -> int:
     )
     sc.add_argument(
         "--cmu",
-        help=f"CMU mocap folder with train/ and test/ (default: ${{TORSOCAST_CMU}}, else {CMU_GUESS})",
+        help="CMU mocap folder with train/ and test/ (default: $TORSOCAST_CMU)",
     )
-    sc.add_argument(
-        "--h36m", help=f"Human3.6M folder with S1/ and S5/ (default: ${H36M_ENV}, else {H36M_GUESS})"
-    )
+    sc.add_argument("--h36m", help=f"Human3.6M folder with S1/ and S5/ (default: ${H36M_ENV})")
     sc.add_argument(
         "--yolo",
-        help=f"YOLO-pose ONNX model for scenes of several people (default: $TORSOCAST_YOLO, else {YOLO_GUESS})",  # noqa: E501
+        help="YOLO-pose ONNX model for scenes of several people (default: $TORSOCAST_YOLO)",
     )
     sc.add_argument(
         "--cache",

@@ -8,6 +8,7 @@ import numpy as np
 from PIL import Image, ImageDraw
 
 from .pipeline import FrameResult
+from .tracker import PersonConfig
 
 #: Skeleton edges between COCO keypoints.
 EDGES = (
@@ -45,8 +46,11 @@ def _projector(camera):  # type: ignore[no-untyped-def]
     return to_pixel
 
 
-def draw(result: FrameResult, min_score: float = 0.3) -> Image.Image:
-    """The colour image with every person drawn; a person's colour follows its track id."""
+def draw(result: FrameResult, min_score: float | None = None) -> Image.Image:
+    """The colour image with every person drawn; a person's colour follows its track id. Keypoints
+    scored below ``min_score`` (default: the tracker's, ``PersonConfig.min_score``) are left out."""
+    if min_score is None:
+        min_score = PersonConfig().min_score
     image = Image.fromarray(result.frame.color)
     pen = ImageDraw.Draw(image)
     camera = result.frame.camera

@@ -8,6 +8,7 @@ use numpy::{
 };
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
+use torso_core::forecaster::option_named;
 use torso_core::{Extrapolation, FilterMode, FilterSplineConfig, LambdaUnit, Method, Pose};
 
 /// ForecasterConfig(method="filter_spline", *, ...): every forecasting choice, validated.
@@ -26,35 +27,19 @@ impl PartialEq for ForecasterConfig {
     }
 }
 
-fn parse<T: Copy>(name: &str, got: &str, options: &[(&str, T)]) -> PyResult<T> {
-    options
-        .iter()
-        .find(|(key, _)| *key == got)
-        .map(|(_, v)| *v)
-        .ok_or_else(|| {
-            let keys: Vec<&str> = options.iter().map(|(k, _)| *k).collect();
-            unknown_option(name, got, &keys.join(", "))
-        })
+fn parse<T: Copy>(name: &str, got: &str, options: &[(&'static str, T)]) -> PyResult<T> {
+    option_named(got, options).ok_or_else(|| {
+        let keys: Vec<&str> = options.iter().map(|(k, _)| *k).collect();
+        unknown_option(name, got, &keys.join(", "))
+    })
 }
-
-const FILTERS: [(&str, FilterMode); 3] = [
-    ("off", FilterMode::Off),
-    ("causal", FilterMode::Causal),
-    ("zero_phase", FilterMode::ZeroPhase),
-];
-const UNITS: [(&str, LambdaUnit); 2] = [
-    ("samples", LambdaUnit::Samples),
-    ("seconds", LambdaUnit::Seconds),
-];
-const RULES: [(&str, Extrapolation); 3] = [
-    ("polynomial", Extrapolation::Polynomial),
-    ("linear", Extrapolation::Linear),
-    ("damped", Extrapolation::DAMPED_H36M_S1),
-];
 
 /// The extrapolation rule, with `damping` (time constants) only where the rule is "damped".
 fn parse_rule(name: &str, damping: Option<[f64; 5]>) -> PyResult<Extrapolation> {
-    match (parse("extrapolation", name, &RULES)?, damping) {
+    match (
+        parse("extrapolation", name, &Extrapolation::OPTIONS)?,
+        damping,
+    ) {
         (Extrapolation::Damped { .. }, Some(time_constants)) => {
             Ok(Extrapolation::Damped { time_constants })
         }
@@ -67,66 +52,64 @@ fn parse_rule(name: &str, damping: Option<[f64; 5]>) -> PyResult<Extrapolation> 
     }
 }
 
-/// The option's name, matched by variant only: a damped rule with any time constants is "damped".
-fn name_of<T>(value: T, options: &[(&'static str, T)]) -> &'static str {
-    let variant = std::mem::discriminant(&value);
-    options
-        .iter()
-        .find(|(_, v)| std::mem::discriminant(v) == variant)
-        .map_or("?", |(k, _)| k)
-}
-
 #[pymethods]
 impl ForecasterConfig {
     #[new]
     #[pyo3(signature = (
-        method="filter_spline", *, rate_hz=25.0, history=2.0, max_gap=0.4, fast_path=true,
-        velocity_window=None, filter="zero_phase", filter_order=2, cutoff_hz=5.0,
-        filter_components=[false, false, false, true, true], degree=1, lam=1.0,
-        lambda_unit="samples", extrapolation="damped", damping=None
+        method=None, *, rate_hz=None, history=None, max_gap=None, fast_path=None,
+        velocity_window=None, filter=None, filter_order=None, cutoff_hz=None,
+        filter_components=None, degree=None, lam=None, lambda_unit=None, extrapolation=None,
+        damping=None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn new(
-        method: &str,
-        rate_hz: f64,
-        history: f64,
-        max_gap: f64,
-        fast_path: bool,
+        method: Option<&str>,
+        rate_hz: Option<f64>,
+        history: Option<f64>,
+        max_gap: Option<f64>,
+        fast_path: Option<bool>,
         velocity_window: Option<f64>,
-        filter: &str,
-        filter_order: usize,
-        cutoff_hz: f64,
-        filter_components: [bool; 5],
-        degree: usize,
-        lam: f64,
-        lambda_unit: &str,
-        extrapolation: &str,
+        filter: Option<&str>,
+        filter_order: Option<usize>,
+        cutoff_hz: Option<f64>,
+        filter_components: Option<[bool; 5]>,
+        degree: Option<usize>,
+        lam: Option<f64>,
+        lambda_unit: Option<&str>,
+        extrapolation: Option<&str>,
         damping: Option<[f64; 5]>,
     ) -> PyResult<Self> {
-        let spline = FilterSplineConfig {
-            filter: parse("filter", filter, &FILTERS)?,
-            filter_order,
-            cutoff_hz,
-            filter_components,
-            degree,
-            lam,
-            lambda_unit: parse("lambda_unit", lambda_unit, &UNITS)?,
-            extrapolation: parse_rule(extrapolation, damping)?,
+        // Every default is the core's (`ForecasterConfig::default()`).
+        let d = torso_core::ForecasterConfig::default();
+        let Method::FilterSpline(ds) = d.method else {
+            unreachable!("the default method is filter + spline")
         };
-        let method = match method {
+        let spline = FilterSplineConfig {
+            filter: filter.map_or(Ok(ds.filter), |f| parse("filter", f, &FilterMode::OPTIONS))?,
+            filter_order: filter_order.unwrap_or(ds.filter_order),
+            cutoff_hz: cutoff_hz.unwrap_or(ds.cutoff_hz),
+            filter_components: filter_components.unwrap_or(ds.filter_components),
+            degree: degree.unwrap_or(ds.degree),
+            lam: lam.unwrap_or(ds.lam),
+            lambda_unit: lambda_unit.map_or(Ok(ds.lambda_unit), |u| {
+                parse("lambda_unit", u, &LambdaUnit::OPTIONS)
+            })?,
+            extrapolation: parse_rule(extrapolation.unwrap_or(ds.extrapolation.as_str()), damping)?,
+        };
+        let method = match method.unwrap_or(d.method.as_str()) {
             "filter_spline" => Method::FilterSpline(spline),
             "const" => Method::Const,
             "constant_velocity" => Method::ConstantVelocity {
                 window: velocity_window,
             },
-            other => {
-                return Err(unknown_option(
-                    "method",
-                    other,
-                    "filter_spline, const, constant_velocity",
-                ))
-            }
+            other => return Err(unknown_option("method", other, &Method::NAMES.join(", "))),
         };
+        let (rate_hz, history, max_gap, fast_path) = (
+            rate_hz.unwrap_or(d.rate_hz),
+            history.unwrap_or(d.history),
+            max_gap.unwrap_or(d.max_gap),
+            fast_path.unwrap_or(d.fast_path),
+        );
         let inner = torso_core::ForecasterConfig {
             rate_hz,
             history,
@@ -144,11 +127,22 @@ impl ForecasterConfig {
 
     #[getter]
     fn method(&self) -> &'static str {
-        match self.inner.method {
-            Method::Const => "const",
-            Method::ConstantVelocity { .. } => "constant_velocity",
-            Method::FilterSpline(_) => "filter_spline",
+        self.inner.method.as_str()
+    }
+
+    /// options() -> dict of each option's names: method, filter, lambda_unit, extrapolation
+    /// (the core's vocabulary, for command lines and forms).
+    #[staticmethod]
+    fn options(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+        fn names<T>(options: &[(&'static str, T)]) -> Vec<&'static str> {
+            options.iter().map(|(k, _)| *k).collect()
         }
+        let dict = PyDict::new(py);
+        dict.set_item("method", Method::NAMES.to_vec())?;
+        dict.set_item("filter", names(&FilterMode::OPTIONS))?;
+        dict.set_item("lambda_unit", names(&LambdaUnit::OPTIONS))?;
+        dict.set_item("extrapolation", names(&Extrapolation::OPTIONS))?;
+        Ok(dict)
     }
     #[getter]
     fn rate_hz(&self) -> f64 {
@@ -172,7 +166,7 @@ impl ForecasterConfig {
     }
     #[getter]
     fn filter(&self) -> &'static str {
-        name_of(self.spline.filter, &FILTERS)
+        self.spline.filter.as_str()
     }
     #[getter]
     fn filter_order(&self) -> usize {
@@ -196,11 +190,11 @@ impl ForecasterConfig {
     }
     #[getter]
     fn lambda_unit(&self) -> &'static str {
-        name_of(self.spline.lambda_unit, &UNITS)
+        self.spline.lambda_unit.as_str()
     }
     #[getter]
     fn extrapolation(&self) -> &'static str {
-        name_of(self.spline.extrapolation, &RULES)
+        self.spline.extrapolation.as_str()
     }
     /// Time constants (s) of the damped trend per component; None for the other rules.
     #[getter]
@@ -266,7 +260,7 @@ impl ForecasterConfig {
             ),
             Method::FilterSpline(s) => format!(
                 "ForecasterConfig('filter_spline', {grid}, filter='{}', filter_order={}, cutoff_hz={}, filter_components=({}), degree={}, lam={}, lambda_unit='{}', extrapolation='{}'{})",
-                name_of(s.filter, &FILTERS),
+                s.filter.as_str(),
                 s.filter_order,
                 s.cutoff_hz,
                 s.filter_components
@@ -274,8 +268,8 @@ impl ForecasterConfig {
                     .join(", "),
                 s.degree,
                 s.lam,
-                name_of(s.lambda_unit, &UNITS),
-                name_of(s.extrapolation, &RULES),
+                s.lambda_unit.as_str(),
+                s.extrapolation.as_str(),
                 match s.extrapolation {
                     Extrapolation::Damped { time_constants: t } => format!(
                         ", damping=({}, {}, {}, {}, {})",

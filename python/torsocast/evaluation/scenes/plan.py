@@ -58,9 +58,9 @@ QUICK = Size(scenes=8, duration=4.0)
 CMU_ENV, H36M_ENV = "TORSOCAST_CMU", "TORSOCAST_H36M"
 
 
-def data_folder(given: str | Path | None, env: str, guess: Path) -> Path | None:
-    """``given``, else the environment variable ``env``, else ``guess`` where it exists."""
-    folder = given or os.environ.get(env) or (guess if guess.is_dir() else None)
+def data_folder(given: str | Path | None, env: str) -> Path | None:
+    """``given``, else the environment variable ``env``; None where neither is set."""
+    folder = given or os.environ.get(env)
     return Path(folder) if folder is not None else None
 
 
