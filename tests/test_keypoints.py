@@ -7,7 +7,7 @@ from PIL import Image
 from conftest import shared_path
 from torsocast.keypoints import open_model
 from torsocast.keypoints.image import letterbox
-from torsocast.keypoints.model import recognise
+from torsocast.keypoints.loading import recognise
 from torsocast.keypoints.yolo import non_maximum_suppression
 
 # README of ../shared/data/images: yolo11n-pose at 640, (u, v) of L/R shoulder, L/R hip.

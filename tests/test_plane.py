@@ -99,3 +99,10 @@ def test_min_orientation_cosine_zero_orients_a_torso_bent_double():
     assert np.allclose(out["normal"][0], normal, atol=1e-12)
     with pytest.raises(tc.InvalidArgumentError, match="min_orientation_cosine"):
         tc.fit_planes(frames, "LRLR", min_orientation_cosine=1.5)
+
+
+def test_the_status_enums_are_the_cores_codes():
+    from torsocast import _core
+
+    assert {s.name: s.value for s in tc.PlaneStatus} == _core.PLANE_STATUS
+    assert {s.name: s.value for s in tc.JointStatus} == _core.JOINT_STATUS

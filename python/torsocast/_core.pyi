@@ -16,7 +16,10 @@ __all__ = [
     "InvalidArgumentError",
     "JointGate",
     "LowPass",
+    "JOINT_STATUS",
     "MAX_DEGREE",
+    "MIN_ORIENTATION_COSINE",
+    "PLANE_STATUS",
     "NonFiniteError",
     "NotEnoughHistoryError",
     "NotPositiveDefiniteError",
@@ -45,6 +48,9 @@ __all__ = [
 
 __version__: str
 MAX_DEGREE: int
+MIN_ORIENTATION_COSINE: float
+PLANE_STATUS: dict[str, int]
+JOINT_STATUS: dict[str, int]
 
 _ArrayLike: TypeAlias = npt.ArrayLike
 _F64: TypeAlias = npt.NDArray[np.float64]
@@ -80,13 +86,15 @@ def fit_planes(
     joints: _ArrayLike,
     sides: str,
     weights: _ArrayLike | None = None,
-    min_orientation_cosine: float = 0.05,
+    min_orientation_cosine: float | None = None,
 ) -> dict[str, npt.NDArray[np.float64] | npt.NDArray[np.uint8]]: ...
 def shoulder_heading(left: Sequence[float], right: Sequence[float]) -> tuple[_F64, float]: ...
 
 @final
 class JointGate:
-    def __new__(cls, n_joints: int, threshold: float = 0.1, max_replacements: int = 10) -> JointGate: ...
+    def __new__(
+        cls, n_joints: int, threshold: float | None = None, max_replacements: int | None = None
+    ) -> JointGate: ...
     @property
     def n_joints(self) -> int: ...
     @property

@@ -26,7 +26,7 @@ pub enum Error {
     /// Fewer valid joints than the estimate needs.
     TooFewJoints { valid: usize, needed: usize },
     /// The valid torso joints lie (nearly) on a line, so no plane is defined.
-    CollinearJoints { planarity: f64 },
+    CollinearJoints { planarity: f64, minimum: f64 },
     /// The normal's sign cannot be chosen: no left or right joint, or the body's left-right axis
     /// (nearly) parallel to gravity, or a torso plane (nearly) horizontal.
     AmbiguousOrientation,
@@ -59,10 +59,9 @@ impl fmt::Display for Error {
                 f,
                 "`joints`: {valid} valid joint(s), at least {needed} finite joints with positive weight are needed"
             ),
-            Error::CollinearJoints { planarity } => write!(
+            Error::CollinearJoints { planarity, minimum } => write!(
                 f,
-                "`joints` are (nearly) collinear: second/largest scatter eigenvalue ratio {planarity:.3e} is below {:.0e}, so no torso plane is defined",
-                crate::plane::MIN_PLANARITY
+                "`joints` are (nearly) collinear: second/largest scatter eigenvalue ratio {planarity:.3e} is below {minimum:.0e}, so no torso plane is defined"
             ),
             Error::AmbiguousOrientation => write!(
                 f,

@@ -38,6 +38,15 @@ pub enum JointStatus {
     Lost = 2,
 }
 
+impl JointStatus {
+    /// Every status with its name and code, for bindings.
+    pub const NAMES: [(&'static str, JointStatus); 3] = [
+        ("MEASURED", JointStatus::Measured),
+        ("REPLACED", JointStatus::Replaced),
+        ("LOST", JointStatus::Lost),
+    ];
+}
+
 /// Most joints a gate takes (skeletons have tens): a size from a caller is bounded before it is
 /// allocated.
 pub const MAX_JOINTS: usize = 1024;

@@ -43,6 +43,37 @@ pub const MIN_PLANARITY: f64 = 1e-4;
 /// default of [`fit_torso_plane`]; [`fit_torso_plane_with`] takes another.
 pub const MIN_ORIENTATION_COSINE: f64 = 0.05;
 
+/// The outcome of one frame's plane fit as a code, for batch results.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u8)]
+pub enum PlaneStatus {
+    Ok = 0,
+    TooFewJoints = 1,
+    Collinear = 2,
+    /// The normal's sign cannot be chosen (or any other refusal of the frame).
+    AmbiguousOrientation = 3,
+}
+
+impl PlaneStatus {
+    /// Every status with its name, for bindings.
+    pub const NAMES: [(&'static str, PlaneStatus); 4] = [
+        ("OK", PlaneStatus::Ok),
+        ("TOO_FEW_JOINTS", PlaneStatus::TooFewJoints),
+        ("COLLINEAR", PlaneStatus::Collinear),
+        ("AMBIGUOUS_ORIENTATION", PlaneStatus::AmbiguousOrientation),
+    ];
+
+    /// The status of a fit's result.
+    pub fn of(result: &Result<TorsoPlane>) -> Self {
+        match result {
+            Ok(_) => PlaneStatus::Ok,
+            Err(Error::TooFewJoints { .. }) => PlaneStatus::TooFewJoints,
+            Err(Error::CollinearJoints { .. }) => PlaneStatus::Collinear,
+            Err(_) => PlaneStatus::AmbiguousOrientation,
+        }
+    }
+}
+
 /// A fitted torso plane.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TorsoPlane {
@@ -119,7 +150,10 @@ pub fn fit_torso_plane_with(
         0.0
     };
     if !(planarity >= MIN_PLANARITY) {
-        return Err(Error::CollinearJoints { planarity });
+        return Err(Error::CollinearJoints {
+            planarity,
+            minimum: MIN_PLANARITY,
+        });
     }
     let mut normal = eigen.vector;
 

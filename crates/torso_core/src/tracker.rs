@@ -43,6 +43,7 @@ use crate::coco::{Joints, N_JOINTS, TORSO};
 use crate::depth::{DepthImage, DepthLookup};
 use crate::error::{Error, Result};
 use crate::person::{Observation, Person, PersonConfig};
+use crate::vec3::distance;
 use crate::Pose;
 
 /// One detection's 2D keypoints: `(u, v, score)` per COCO-17 joint, pixels of the image the
@@ -449,8 +450,7 @@ impl Tracker {
             let a = self.slots[i].centre;
             for &d in &self.placeable {
                 let b = self.centres[d];
-                let distance =
-                    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
+                let distance = distance(a, b);
                 // Pairs beyond the gate cost more than any allowed set of pairs, and are refused
                 // below if the solver still takes them.
                 self.cost

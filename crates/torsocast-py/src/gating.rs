@@ -16,11 +16,17 @@ pub struct JointGate {
 #[pymethods]
 impl JointGate {
     #[new]
-    #[pyo3(signature = (n_joints, threshold=0.1, max_replacements=10))]
-    fn new(n_joints: usize, threshold: f64, max_replacements: u32) -> PyResult<Self> {
+    #[pyo3(signature = (n_joints, threshold=None, max_replacements=None))]
+    fn new(
+        n_joints: usize,
+        threshold: Option<f64>,
+        max_replacements: Option<u32>,
+    ) -> PyResult<Self> {
+        // Left out: the core's defaults (the thesis' 10 cm and 10 frames).
+        let d = GateConfig::default();
         let config = GateConfig {
-            threshold,
-            max_replacements,
+            threshold: threshold.unwrap_or(d.threshold),
+            max_replacements: max_replacements.unwrap_or(d.max_replacements),
         };
         Ok(Self {
             inner: torso_core::JointGate::new(n_joints, config).map_err(to_py)?,

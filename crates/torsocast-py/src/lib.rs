@@ -41,6 +41,23 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<tracker::TrackOutcome>()?;
     m.add_class::<tracker::TrackState>()?;
     m.add("MAX_DEGREE", torso_core::bspline::MAX_DEGREE)?;
+    m.add("MIN_ORIENTATION_COSINE", torso_core::MIN_ORIENTATION_COSINE)?;
+    // The status codes' names, from the core (the Python enums are compared with these).
+    let codes = |names: &[(&str, u8)]| -> PyResult<Bound<'_, pyo3::types::PyDict>> {
+        let dict = pyo3::types::PyDict::new(m.py());
+        for (name, code) in names {
+            dict.set_item(name, code)?;
+        }
+        Ok(dict)
+    };
+    m.add(
+        "PLANE_STATUS",
+        codes(&torso_core::plane::PlaneStatus::NAMES.map(|(k, v)| (k, v as u8)))?,
+    )?;
+    m.add(
+        "JOINT_STATUS",
+        codes(&torso_core::JointStatus::NAMES.map(|(k, v)| (k, v as u8)))?,
+    )?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

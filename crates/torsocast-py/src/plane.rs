@@ -67,25 +67,22 @@ pub fn fit_plane(
 
 /// Status code of one frame of `fit_planes`.
 fn status(result: &Result<torso_core::TorsoPlane, Error>) -> u8 {
-    match result {
-        Ok(_) => 0,
-        Err(Error::TooFewJoints { .. }) => 1,
-        Err(Error::CollinearJoints { .. }) => 2,
-        Err(_) => 3,
-    }
+    torso_core::plane::PlaneStatus::of(result) as u8
 }
 
-/// fit_planes(joints, sides, weights=None, min_orientation_cosine=0.05) -> dict of arrays, one row per frame
+/// fit_planes(joints, sides, weights=None, min_orientation_cosine=None) -> dict of arrays, one row
+/// per frame; `min_orientation_cosine` defaults to the core's `MIN_ORIENTATION_COSINE`
 #[pyfunction]
-// The default is torso_core::MIN_ORIENTATION_COSINE, written out so that it shows in the signature.
-#[pyo3(signature = (joints, sides, weights=None, min_orientation_cosine=0.05))]
+#[pyo3(signature = (joints, sides, weights=None, min_orientation_cosine=None))]
 pub fn fit_planes<'py>(
     py: Python<'py>,
     joints: PyArrayLike3<'py, f64, AllowTypeChange>,
     sides: &str,
     weights: Option<PyArrayLike2<'py, f64, AllowTypeChange>>,
-    min_orientation_cosine: f64,
+    min_orientation_cosine: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let min_orientation_cosine =
+        min_orientation_cosine.unwrap_or(torso_core::MIN_ORIENTATION_COSINE);
     let shape = joints.shape().to_vec();
     expect_last("joints", &shape, 3, "(frames, joints, 3)")?;
     let sides = parse_sides(sides)?;

@@ -7,6 +7,7 @@ or MoveNet SinglePose.
 """
 
 from .coco import KEYPOINTS, LEFT_RIGHT_PAIRS
-from .model import Detections, KeypointModel, open_model
+from .loading import open_model
+from .model import Detections, KeypointModel
 
 __all__ = ["KEYPOINTS", "LEFT_RIGHT_PAIRS", "Detections", "KeypointModel", "open_model"]

@@ -8,184 +8,31 @@
 //! pose to the person's forecaster on its fixed-rate grid. Everything is on the stack or sized
 //! at construction.
 
-use crate::coco::{self, Joints, N_JOINTS, TORSO, TORSO_SIDES};
-use crate::error::{Error, Result};
-use crate::selfcheck::{SelfCheck, HORIZONS as CHECK_HORIZONS, INTERVAL_80};
-use crate::sides::{nose_direction, Decision, Facing, FacingConfig};
-use crate::{
-    fit_torso_plane, shoulder_heading, Forecaster, ForecasterConfig, GateConfig, JointGate,
-    JointStatus, Pose, AZIMUTH, ELEVATION,
-};
-use std::f64::consts::{FRAC_PI_2, PI, TAU};
+mod config;
+mod observation;
+mod occlusion;
+
+pub use config::PersonConfig;
+pub use observation::{Estimate, GridReport, Observation};
+pub use occlusion::{FRONTAL_COSINE, PLAUSIBLE_WIDTH};
 
 /// How far below the shoulders' midpoint the torso centre sits before the track has measured it
 /// (half the shoulder-to-hip distance of an adult), in metres.
 pub const SHOULDER_TO_CENTRE: f64 = 0.25;
 
-/// `|cos|` between the torso normal and the direction to the camera above which both joints of a
-/// pair are in view, so that their distance teaches the pair's width (about 37 degrees off
-/// frontal or dorsal).
-pub const FRONTAL_COSINE: f64 = 0.8;
-
-/// Widths (m) a pair's distance must lie in to be learned: adult shoulders are about 0.35 m
-/// apart at the keypoints, hips 0.25 m.
-pub const PLAUSIBLE_WIDTH: (f64, f64) = (0.15, 0.7);
-
 /// Most horizons one [`Person::forecast`] call takes.
 pub const MAX_HORIZONS: usize = 32;
 
-/// Shoulder and hip widths as fractions of the torso's length (shoulders' midpoint to hips'),
-/// for a track that has not yet seen a frontal view to learn its own: the median keypoint
-/// proportions of frontal views on the scenes benchmark's development split (adult
-/// anthropometry gives about 0.7 and 0.5 for the joint centres).
-const WIDTH_PER_TORSO_LENGTH: [f64; 2] = [0.68, 0.44];
-
-/// Weight of a new frontal frame in the learned widths (an exponential mean over about ten
-/// frames).
-const WIDTH_RATE: f64 = 0.1;
-
-/// The torso's left/right pairs whose widths are learned: shoulders, hips.
-const PAIRS: [(usize, usize); 2] = [
-    (coco::LEFT_SHOULDER, coco::RIGHT_SHOULDER),
-    (coco::LEFT_HIP, coco::RIGHT_HIP),
-];
-
-/// Per-person parameters.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PersonConfig {
-    pub forecaster: ForecasterConfig,
-    /// The gate's threshold applies to a joint's motion relative to the body's (see
-    /// [`Person::update`]). Thesis: 0.10 m at about 25 frames per second.
-    pub gate: GateConfig,
-    /// Keypoints scored below this are missing.
-    pub min_score: f64,
-    /// How the track decides which way the chest faces ([`crate::sides`]).
-    pub facing: FacingConfig,
-    /// The track checks its forecasts against its own later samples and mixes holding still,
-    /// the damped trend and the plain trend by how well each came true ([`crate::selfcheck`]);
-    /// `false` gives the forecaster's output as it is.
-    pub self_check: bool,
-    /// A shoulder or hip pair measured shorter than this fraction of its learned width has the
-    /// depth of its far joint corrected (see [`Person::update`]); 0 turns the correction off.
-    pub occlusion_ratio: f64,
-}
-
-impl Default for PersonConfig {
-    fn default() -> Self {
-        Self {
-            forecaster: ForecasterConfig::live(),
-            gate: GateConfig::default(),
-            min_score: 0.3,
-            facing: FacingConfig::default(),
-            self_check: true,
-            occlusion_ratio: 0.8,
-        }
-    }
-}
-
-impl PersonConfig {
-    /// Whether a keypoint scored `score` counts as seen: the one rule for every stage that
-    /// masks keypoints (NaN, "not scored", is not seen).
-    pub fn sees(&self, score: f64) -> bool {
-        score >= self.min_score
-    }
-
-    /// Checks every field, as [`Person::new`] does.
-    pub fn validate(&self) -> Result<()> {
-        self.forecaster.validate()?;
-        JointGate::new(N_JOINTS, self.gate)?;
-        if !(0.0..=1.0).contains(&self.min_score) {
-            return Err(Error::InvalidArgument {
-                name: "min_score",
-                expected: "a keypoint score from 0 to 1",
-                value: self.min_score,
-            });
-        }
-        let f = &self.facing;
-        for (name, value, expected) in [
-            (
-                "facing_memory",
-                f.memory,
-                "a positive, finite time in seconds",
-            ),
-            (
-                "face_weight",
-                f.face_weight,
-                "a finite, non-negative weight",
-            ),
-            (
-                "motion_weight",
-                f.motion_weight,
-                "a finite, non-negative weight",
-            ),
-        ] {
-            let ok = value.is_finite() && value >= 0.0 && (name != "facing_memory" || value > 0.0);
-            if !ok {
-                return Err(Error::InvalidArgument {
-                    name,
-                    expected,
-                    value,
-                });
-            }
-        }
-        if !(0.0..1.0).contains(&self.occlusion_ratio) {
-            return Err(Error::InvalidArgument {
-                name: "occlusion_ratio",
-                expected: "a fraction in [0, 1): 0 turns the correction off",
-                value: self.occlusion_ratio,
-            });
-        }
-        Ok(())
-    }
-}
-
-/// Where a frame's pose came from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[repr(u8)]
-pub enum Estimate {
-    /// Nothing to estimate it from: no pose this frame.
-    None = 0,
-    /// The torso plane through at least three torso joints.
-    Plane = 1,
-    /// The shoulder line and gravity (azimuth only; the elevation is held).
-    Shoulders = 2,
-}
-
-/// What the forecaster's time grid did with a frame.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct GridReport {
-    /// Slots interpolated before this sample.
-    pub filled: usize,
-    /// The history was cleared after a gap longer than the forecaster's `max_gap`.
-    pub restarted: bool,
-    /// A faster camera than the grid: the frame's slot already had a sample, so it was not added.
-    pub skipped: bool,
-}
-
-/// What a person's track made of one frame.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Observation {
-    /// `[x, y, z, azimuth, elevation]` in the world frame, azimuth wrapped to (-π, π]; `None`
-    /// when there was nothing to estimate it from.
-    pub pose: Option<Pose>,
-    pub estimate: Estimate,
-    /// The detector's left and right labels were exchanged in this frame: the track's cues say
-    /// the chest faces the other way from what the labels make it.
-    pub swapped: bool,
-    /// The track turned round in this frame: the cues said it had been facing the wrong way,
-    /// and its history was turned round with it.
-    pub reoriented: bool,
-    /// The joints after the swap, the depth completion and the gate (NaN where lost).
-    pub joints: Joints,
-    /// Joints whose measured depth was replaced by the one the learned pair width gives (a far
-    /// shoulder or hip hidden by the body).
-    pub completed: [bool; N_JOINTS],
-    pub status: [JointStatus; N_JOINTS],
-    /// Confidence weight given to the forecaster: mean score of the torso joints used, a joint
-    /// held over from the previous frame at half its score.
-    pub weight: f64,
-    pub grid: GridReport,
-}
+use crate::coco::{self, Joints, N_JOINTS, TORSO, TORSO_SIDES};
+use crate::error::{Error, Result};
+use crate::forecaster::Forecaster;
+use crate::gating::{JointGate, JointStatus};
+use crate::plane::{fit_torso_plane, shoulder_heading};
+use crate::selfcheck::{SelfCheck, HORIZONS as CHECK_HORIZONS, INTERVAL_80};
+use crate::sides::{nose_direction, Decision, Facing};
+use crate::vec3::{add, finite, midpoint, sub};
+use crate::{Pose, AZIMUTH, ELEVATION};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// Refuses horizons that [`Person::forecast`] and [`Person::intervals`] would: more than
 /// [`MAX_HORIZONS`], or one that is not a finite, non-negative number of seconds.
@@ -483,55 +330,6 @@ impl Person {
             check.drop_pending();
         }
     }
-
-    /// In a profile view the far shoulder (or hip) is hidden behind the body: the detector still
-    /// places it in the image, but the depth read there is the near side's, so the pair comes
-    /// out too short and the azimuth lags the turn. The 2D position is right and only the depth
-    /// is wrong, so the far joint is moved back along its camera ray to where the pair has the
-    /// width learned in frontal views (before any, the torso's length times
-    /// [`WIDTH_PER_TORSO_LENGTH`]). The far joint is the one on the side turned away from the
-    /// camera by the last pose.
-    fn complete_occluded(&mut self, joints: &mut Joints, camera: [f64; 3]) -> [bool; N_JOINTS] {
-        let mut completed = [false; N_JOINTS];
-        let Some(last) = self.last_pose else {
-            return completed;
-        };
-        let (sin, cos) = last[AZIMUTH].sin_cos();
-        let left = [-sin, cos, 0.0];
-        let to_camera = sub(camera, [last[0], last[1], last[2]]);
-        let facing = [cos, sin, 0.0];
-        let frontal = dot(facing, to_camera).abs() / norm(to_camera) > FRONTAL_COSINE;
-        let torso = TORSO.map(|i| joints[i]);
-        let length = torso
-            .iter()
-            .all(finite)
-            .then(|| distance(midpoint(torso[0], torso[1]), midpoint(torso[2], torso[3])));
-        for (((l, r), width), per_length) in PAIRS
-            .iter()
-            .zip(self.widths.iter_mut())
-            .zip(WIDTH_PER_TORSO_LENGTH)
-        {
-            if !(finite(&joints[*l]) && finite(&joints[*r])) {
-                continue;
-            }
-            let measured = distance(joints[*l], joints[*r]);
-            if frontal && (PLAUSIBLE_WIDTH.0..=PLAUSIBLE_WIDTH.1).contains(&measured) {
-                *width = Some(width.map_or(measured, |w| w + WIDTH_RATE * (measured - w)));
-            } else if let Some(w) = width.or(length.map(|l| per_length * l)) {
-                if measured < self.config.occlusion_ratio * w {
-                    let (near, far) = if dot(left, to_camera) > 0.0 {
-                        (*l, *r)
-                    } else {
-                        (*r, *l)
-                    };
-                    joints[far] = behind_on_ray(camera, joints[far], joints[near], w);
-                    completed[far] = true;
-                }
-            }
-        }
-        completed
-    }
-
     /// The gate applied to the joints' motion relative to the body's: at 1.3 m/s and 30 frames
     /// per second every joint of a walker moves 4 cm a frame, and an absolute gate holds a
     /// rejected joint still while the body walks away from it until it is lost. The body's
@@ -637,26 +435,6 @@ fn labelled_heading(joints: &Joints) -> Option<(f64, [f64; 3])> {
         .map(|h| (h.azimuth, h.centre))
 }
 
-/// The point on the camera ray through `seen` that lies `width` from `anchor`, behind `seen`
-/// (the larger root of `|c + s r - anchor| = width`); `seen` itself when the ray never comes
-/// that close.
-fn behind_on_ray(camera: [f64; 3], seen: [f64; 3], anchor: [f64; 3], width: f64) -> [f64; 3] {
-    let ray = sub(seen, camera);
-    let length = norm(ray);
-    if !(length > 0.0) {
-        return seen;
-    }
-    let r = ray.map(|v| v / length);
-    let a = sub(anchor, camera);
-    let along = dot(r, a);
-    let discriminant = along * along - dot(a, a) + width * width;
-    if !(discriminant >= 0.0) {
-        return seen;
-    }
-    let s = (along + discriminant.sqrt()).max(length);
-    add(camera, r.map(|v| v * s))
-}
-
 /// Per-axis median displacement of the joints seen in both frames; `None` when there is none.
 fn median_step(current: &Joints, previous: &Joints) -> Option<[f64; 3]> {
     let mut steps = [[0.0; N_JOINTS]; 3];
@@ -693,42 +471,14 @@ pub fn wrap_angle(angle: f64) -> f64 {
     }
 }
 
-fn finite(x: &[f64; 3]) -> bool {
-    x.iter().all(|v| v.is_finite())
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
-}
-
-fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
-    norm(sub(a, b))
-}
-
-fn midpoint(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        0.5 * (a[0] + b[0]),
-        0.5 * (a[1] + b[1]),
-        0.5 * (a[2] + b[2]),
-    ]
-}
-
 #[cfg(test)]
 mod tests {
+    use super::occlusion::{behind_on_ray, PAIRS};
     use super::*;
     use crate::coco::{LEFT_HIP, LEFT_SHOULDER, NOSE, RIGHT_HIP, RIGHT_SHOULDER};
+    use crate::sides::FacingConfig;
+    use crate::vec3::{distance, dot, norm};
+    use crate::GateConfig;
 
     const CAMERA: [f64; 3] = [0.0; 3];
 

@@ -1,0 +1,96 @@
+//! What a track is configured with.
+
+use crate::coco::N_JOINTS;
+use crate::error::{Error, Result};
+use crate::forecaster::ForecasterConfig;
+use crate::gating::{GateConfig, JointGate};
+use crate::sides::FacingConfig;
+
+/// Per-person parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PersonConfig {
+    pub forecaster: ForecasterConfig,
+    /// The gate's threshold applies to a joint's motion relative to the body's (see
+    /// [`Person::update`]). Thesis: 0.10 m at about 25 frames per second.
+    pub gate: GateConfig,
+    /// Keypoints scored below this are missing.
+    pub min_score: f64,
+    /// How the track decides which way the chest faces ([`crate::sides`]).
+    pub facing: FacingConfig,
+    /// The track checks its forecasts against its own later samples and mixes holding still,
+    /// the damped trend and the plain trend by how well each came true ([`crate::selfcheck`]);
+    /// `false` gives the forecaster's output as it is.
+    pub self_check: bool,
+    /// A shoulder or hip pair measured shorter than this fraction of its learned width has the
+    /// depth of its far joint corrected (see [`Person::update`]); 0 turns the correction off.
+    pub occlusion_ratio: f64,
+}
+
+impl Default for PersonConfig {
+    fn default() -> Self {
+        Self {
+            forecaster: ForecasterConfig::live(),
+            gate: GateConfig::default(),
+            min_score: 0.3,
+            facing: FacingConfig::default(),
+            self_check: true,
+            occlusion_ratio: 0.8,
+        }
+    }
+}
+
+impl PersonConfig {
+    /// Whether a keypoint scored `score` counts as seen: the one rule for every stage that
+    /// masks keypoints (NaN, "not scored", is not seen).
+    pub fn sees(&self, score: f64) -> bool {
+        score >= self.min_score
+    }
+
+    /// Checks every field, as [`Person::new`] does.
+    pub fn validate(&self) -> Result<()> {
+        self.forecaster.validate()?;
+        JointGate::new(N_JOINTS, self.gate)?;
+        if !(0.0..=1.0).contains(&self.min_score) {
+            return Err(Error::InvalidArgument {
+                name: "min_score",
+                expected: "a keypoint score from 0 to 1",
+                value: self.min_score,
+            });
+        }
+        let f = &self.facing;
+        for (name, value, expected) in [
+            (
+                "facing_memory",
+                f.memory,
+                "a positive, finite time in seconds",
+            ),
+            (
+                "face_weight",
+                f.face_weight,
+                "a finite, non-negative weight",
+            ),
+            (
+                "motion_weight",
+                f.motion_weight,
+                "a finite, non-negative weight",
+            ),
+        ] {
+            let ok = value.is_finite() && value >= 0.0 && (name != "facing_memory" || value > 0.0);
+            if !ok {
+                return Err(Error::InvalidArgument {
+                    name,
+                    expected,
+                    value,
+                });
+            }
+        }
+        if !(0.0..1.0).contains(&self.occlusion_ratio) {
+            return Err(Error::InvalidArgument {
+                name: "occlusion_ratio",
+                expected: "a fraction in [0, 1): 0 turns the correction off",
+                value: self.occlusion_ratio,
+            });
+        }
+        Ok(())
+    }
+}
