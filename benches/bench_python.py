@@ -15,7 +15,14 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 import scipy_reference as ref  # noqa: E402
 import torsocast as tc  # noqa: E402
-from torsocast.bench import THESIS_FORECAST_SECONDS, best_time, measure, report, walking_windows  # noqa: E402
+from torsocast.bench import (  # noqa: E402
+    THESIS_FORECAST_SECONDS,
+    best_time,
+    frame_step,
+    measure,
+    report,
+    walking_windows,
+)
 
 HORIZONS = [0.4, 1.0, 2.0]
 
@@ -36,10 +43,7 @@ def main() -> None:
         best_time(lambda: [ref.forecast_fixed_grid(w, HORIZONS) for w in data[:loop_n]], repeat=3, number=1)
         / loop_n
     )
-    f = tc.Forecaster(config)
-    for k, pose in enumerate(data[0]):
-        f.update(pose, k * 0.04)
-    single = best_time(lambda: f.forecast(HORIZONS))
+    single = best_time(frame_step(config, data[0], HORIZONS))
     const = tc.Forecaster(tc.ForecasterConfig("const"))
     const.update([0, 0, 1, 0, 1.5], 0.0)
     overhead = best_time(lambda: const.forecast([1.0]))
@@ -52,7 +56,7 @@ def main() -> None:
         ("SciPy reference, per window (basis rebuilt per call)", ref_plain),
         ("SciPy reference, per window (basis cached)", ref_cached),
         ("thesis, per forecast (Python, i7-6700HQ)", THESIS_FORECAST_SECONDS),
-        ("Rust Forecaster.forecast via Python, per call", single),
+        ("Rust Forecaster.update + forecast via Python, per frame", single),
         ("Rust forecast_batch, per window", batch),
         ("Python call overhead (Const forecast, no work)", overhead),
     ]

@@ -317,3 +317,47 @@ sys.exit(main(["run", {str(turntable)!r}, "--out", {str(tmp_path / "out")!r}]))
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     assert "100 frames" in done.stdout and (tmp_path / "out" / "frames.jsonl").is_file()
+
+
+def test_trackers_stepped_in_threads_give_the_serial_results():
+    # Tracker.step releases the GIL while the core works: trackers of different streams run in
+    # parallel threads, and each gives exactly what it gives alone.
+    from concurrent.futures import ThreadPoolExecutor
+
+    from torsocast.camera import Intrinsics, level_camera
+
+    k = Intrinsics(300.0, 300.0, 160.0, 120.0, (0.05, -0.01, 0.0, 0.0, 0.0))
+    pose = level_camera(1.0, 0.1)
+
+    def stream(seed):
+        rng = np.random.default_rng(seed)
+        depth = (2.0 + rng.random((240, 320))).astype(np.float32)
+        frames = []
+        for i in range(60):
+            keypoints = np.zeros((3, 17, 3))
+            keypoints[..., 0] = 60 + 80 * np.arange(3)[:, None] + rng.normal(0, 2, (3, 17)) + i
+            keypoints[..., 1] = 40 + 9 * np.arange(17) + rng.normal(0, 2, (3, 17))
+            keypoints[..., 2] = 0.9
+            frames.append((i / 30, keypoints, depth))
+        return frames
+
+    def run(frames):
+        tracker, out = Tracker(TrackerConfig(min_hits=1)), []
+        for t, keypoints, depth in frames:
+            joints, people = tracker.step(
+                t, keypoints, depth, (k.fx, k.fy, k.cx, k.cy), k.coefficients, pose, [0.5]
+            )
+            out.append((joints, [(p.track_id, p.forecast) for p in people]))
+        return out
+
+    streams = [stream(seed) for seed in range(4)]
+    serial = [run(s) for s in streams]
+    with ThreadPoolExecutor(4) as pool:
+        parallel = list(pool.map(run, streams))
+    for a, b in zip(serial, parallel):
+        for (ja, pa), (jb, pb) in zip(a, b):
+            np.testing.assert_array_equal(ja, jb)
+            assert [i for i, _ in pa] == [i for i, _ in pb]
+            for (_, fa), (_, fb) in zip(pa, pb):
+                assert (fa is None and fb is None) or np.array_equal(fa, fb)
+    assert any(f is not None for _, people in serial[0] for _, f in people)

@@ -245,6 +245,9 @@ def _is_number(text: str) -> bool:
 
 
 def main(argv: list[str] | None = None) -> int:
+    from .pipeline import HORIZONS
+
+    RUN_HORIZONS = ",".join(f"{h:g}" for h in HORIZONS)  # noqa: N806 (a constant of this parser)
     parser = argparse.ArgumentParser(prog="torsocast", description=__doc__)
     parser.add_argument("--version", action="version", version=__version__)
     sub = parser.add_subparsers(dest="command", required=True)
@@ -254,7 +257,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     dm.add_argument("--clip", default="test_walking_1", help="bundled CMU walking clip, or a CMU clip file")
     dm.add_argument("--model", help="ONNX keypoint model (default: the bundled MoveNet Lightning)")
-    dm.add_argument("--horizons", default="0.4,1.0", help="forecast horizons, seconds, comma-separated")
+    dm.add_argument("--horizons", default=RUN_HORIZONS, help="forecast horizons, seconds, comma-separated")
     dm.add_argument("--out", default="demo", help="folder for frames.jsonl and demo.png")
     dm.add_argument("--overlay", action="store_true", help="also draw every frame's result as a JPEG")
     dm.add_argument("--video", action="store_true", help="also write those pictures as overlay.avi")
@@ -264,7 +267,7 @@ def main(argv: list[str] | None = None) -> int:
     rn.add_argument("--model", help="ONNX keypoint model (default: the bundled MoveNet Lightning)")
     rn.add_argument("--family", choices=["yolo-pose", "movenet"], help="model family (default: recognised)")
     rn.add_argument("--device", default="cpu", choices=["cpu", "cuda"])
-    rn.add_argument("--horizons", default="0.4,1.0", help="forecast horizons, seconds, comma-separated")
+    rn.add_argument("--horizons", default=RUN_HORIZONS, help="forecast horizons, seconds, comma-separated")
     rn.add_argument("--fps", type=float, default=30.0, help="frame rate of sources without time stamps")
     rn.add_argument("--out", default="out", help="folder for frames.jsonl and overlay/")
     rn.add_argument("--overlay", action="store_true", help="also draw every frame's result as a JPEG")

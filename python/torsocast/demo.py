@@ -21,7 +21,7 @@ from PIL import Image, ImageDraw
 from . import wrap_angle
 from .keypoints import open_model
 from .overlay import draw
-from .pipeline import FrameResult
+from .pipeline import HORIZONS, FrameResult
 from .run import Summary, run
 from .synthetic.mocap import MocapScene
 from .topdown import FONT, TopDown
@@ -115,7 +115,7 @@ class DemoResult:
 def demo(
     out: str | Path = "demo",
     clip: str = DEFAULT_CLIP,
-    horizons: Sequence[float] = (0.4, 1.0),
+    horizons: Sequence[float] = HORIZONS,
     model: str | Path | None = None,
     overlay: bool = False,
     progress: bool = True,

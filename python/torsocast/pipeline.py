@@ -19,6 +19,9 @@ from .tracker import F64, Tracker, TrackerConfig, TrackOutcome
 #: forecasting together).
 STAGES = ("model", "tracking")
 
+#: Seconds ahead that a run forecasts unless told otherwise: the thesis' short and middle horizons.
+HORIZONS = (0.4, 1.0)
+
 
 class BadFrameError(ValueError):
     """A frame the pipeline cannot use (its model output is not keypoints); nothing changed."""
@@ -42,7 +45,7 @@ class FrameResult:
 @dataclass
 class Pipeline:
     model: KeypointModel
-    horizons: Sequence[float] = (0.4, 1.0)
+    horizons: Sequence[float] = HORIZONS
     tracker_config: TrackerConfig = field(default_factory=TrackerConfig)
     seconds: dict[str, float] = field(default_factory=lambda: defaultdict(float))
     frames: int = 0

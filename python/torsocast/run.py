@@ -15,7 +15,7 @@ from .avi import AviWriter
 from .keypoints import KeypointModel
 from .output import JsonLines
 from .overlay import draw
-from .pipeline import BadFrameError, FrameResult, Pipeline
+from .pipeline import HORIZONS, BadFrameError, FrameResult, Pipeline
 from .progress import Progress
 from .sources import SkippedFrame, Source
 
@@ -56,7 +56,7 @@ def run(
     source: Source,
     model: KeypointModel,
     out: str | Path,
-    horizons: Sequence[float] = (0.4, 1.0),
+    horizons: Sequence[float] = HORIZONS,
     overlay: bool = False,
     progress: bool = True,
     observers: Sequence[Callable[[FrameResult], None]] = (),
