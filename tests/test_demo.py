@@ -229,7 +229,7 @@ def test_a_frame_whose_model_scores_are_not_probabilities_is_left_out(walk, tmp_
     frames = list(MocapScene(walk, fps=10.0))[:10]
     summary = run(Replay(frames), Broken(), tmp_path, progress=False)
     assert summary.frames == 9 and summary.rejected == 1
-    assert "scores outside 0..1" in capsys.readouterr().err
+    assert "keypoint scores from 0 to 1" in capsys.readouterr().err
     pipeline = Pipeline(Broken())
     for frame in frames[:4]:
         pipeline(frame)

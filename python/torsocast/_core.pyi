@@ -369,6 +369,9 @@ class Tracker:
     @property
     def last_time(self) -> float | None:
         """Time of the last accepted frame."""
+    def check_time(self, t: float) -> None:
+        """Raises as :meth:`update` and :meth:`step` would for a frame at ``t`` (not finite, or
+        not after the last frame), without changing anything."""
     def update(
         self,
         t: float,

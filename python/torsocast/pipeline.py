@@ -5,8 +5,9 @@ from __future__ import annotations
 
 import time
 from collections import defaultdict
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import TypeVar
 
 import numpy as np
 
@@ -18,6 +19,8 @@ from .tracker import F64, Tracker, TrackerConfig, TrackOutcome
 #: What :meth:`Pipeline.timing` reports: the model, and the core's call (lifting, tracking and
 #: forecasting together).
 STAGES = ("model", "tracking")
+
+T = TypeVar("T")
 
 #: Seconds ahead that a run forecasts unless told otherwise: the thesis' short and middle horizons.
 HORIZONS = (0.4, 1.0)
@@ -49,7 +52,6 @@ class Pipeline:
     tracker_config: TrackerConfig = field(default_factory=TrackerConfig)
     seconds: dict[str, float] = field(default_factory=lambda: defaultdict(float))
     frames: int = 0
-    last_time: float | None = None
 
     def __post_init__(self) -> None:
         if any(not (np.isfinite(h) and h > 0) for h in self.horizons):
@@ -64,12 +66,13 @@ class Pipeline:
         """One frame through every stage. A frame whose time stamp is not after the previous
         frame's raises :class:`~torsocast.TimeNotIncreasingError` before the model runs, and one
         whose model output is unusable raises :class:`BadFrameError`; either changes nothing."""
-        if not np.isfinite(frame.time):
-            raise BadFrameError(f"frame {frame.index}: its time stamp must be finite, got {frame.time}")
-        if self.last_time is not None and not frame.time > self.last_time:
-            raise TimeNotIncreasingError(
-                f"frame {frame.index} at {frame.time} s is not after the previous frame's {self.last_time} s"
-            )
+        # The tracker's time rule, asked before the model runs so that a refused frame costs none.
+        try:
+            self.tracker.check_time(frame.time)
+        except TimeNotIncreasingError as e:
+            raise TimeNotIncreasingError(f"frame {frame.index}: {e}") from e
+        except TorsocastError as e:
+            raise BadFrameError(f"frame {frame.index}: {e}") from e
         if frame.depth is not None and frame.depth.shape != frame.color.shape[:2]:
             raise BadFrameError(
                 f"frame {frame.index}: depth {frame.depth.shape} is not registered to colour "
@@ -77,21 +80,24 @@ class Pipeline:
             )
         clock = time.perf_counter()
         detections = self.model(frame.color)
-        scores = detections.keypoints[..., 2]
-        if ((scores < 0) | (scores > 1)).any():
-            raise BadFrameError(
-                f"frame {frame.index}: the keypoint model gave scores outside 0..1 "
-                f"(from {np.nanmin(scores):g} to {np.nanmax(scores):g}); is it a keypoint model?"
-            )
         clock = self._lap("model", clock)
         if frame.depth is None or frame.camera is None:
-            self.last_time = frame.time
+            # No 3D joints: the frame still passes the tracker (its time stamp, the model's
+            # scores), which ages the tracks and opens none.
+            unseen = np.full(detections.keypoints.shape, np.nan)
+            self._tracked(
+                frame,
+                lambda: self.tracker.update(
+                    frame.time, unseen, detections.keypoints[..., 2], [0.0, 0.0, 0.0]
+                ),
+            )
             self.frames += 1
             return FrameResult(frame, detections, None, [], {})
         camera = frame.camera
         k = camera.intrinsics
-        try:
-            joints, people = self.tracker.step(
+        joints, people = self._tracked(
+            frame,
+            lambda: self.tracker.step(
                 frame.time,
                 detections.keypoints,
                 frame.depth,
@@ -99,11 +105,22 @@ class Pipeline:
                 k.coefficients,
                 camera.camera_to_world,
                 list(self.horizons),
-            )
-        except TorsocastError as e:  # the tracker refused the frame and changed nothing
-            raise BadFrameError(f"frame {frame.index}: {e}") from e
-        self.last_time = frame.time
+            ),
+        )
         return self._finish(frame, detections, joints, people, clock)
+
+    @property
+    def last_time(self) -> float | None:
+        """Time of the last frame taken."""
+        return self.tracker.last_time  # type: ignore[no-any-return]
+
+    @staticmethod
+    def _tracked(frame: Frame, call: Callable[[], T]) -> T:
+        """``call``'s result; a frame the tracker refuses (it changed nothing) is a bad frame."""
+        try:
+            return call()
+        except TorsocastError as e:
+            raise BadFrameError(f"frame {frame.index}: the tracker refused it: {e}") from e
 
     def track(self, frame: Frame, detections: Detections, joints: F64, clock: float) -> FrameResult:
         """The tracking and forecasting stages on already lifted joints (a replay of cached
@@ -112,7 +129,6 @@ class Pipeline:
         position = np.asarray(frame.camera.camera_to_world)[:3, 3]
         scores = detections.keypoints[..., 2]
         people = self.tracker.update(frame.time, joints, scores, position, list(self.horizons))
-        self.last_time = frame.time
         return self._finish(frame, detections, joints, people, clock)
 
     def _finish(

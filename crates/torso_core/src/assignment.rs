@@ -14,6 +14,14 @@ pub fn linear_assignment(cost: &[f64], rows: usize, cols: usize) -> Result<Vec<(
 /// The solver with its working memory, for callers that solve one problem per frame: buffers
 /// grow to the largest problem seen and are reused, so that a steady stream of problems no
 /// larger than that allocates nothing.
+///
+/// ```
+/// use torso_core::Assignment;
+/// let mut solver = Assignment::with_capacity(2, 3);
+/// // Two tracks, three detections: each track takes its nearest, one detection is left over.
+/// let cost = [0.1, 5.0, 0.9, 4.0, 0.2, 3.0];
+/// assert_eq!(solver.solve(&cost, 2, 3).unwrap(), &[(0, 0), (1, 1)]);
+/// ```
 #[derive(Clone, Debug, Default)]
 pub struct Assignment {
     u: Vec<f64>,

@@ -18,6 +18,15 @@ use crate::error::{Error, Result};
 pub const UNDISTORT_ITERATIONS: usize = 20;
 
 /// Pinhole intrinsics of the image that the keypoints and the registered depth live in.
+///
+/// ```
+/// use torso_core::camera::Intrinsics;
+/// // A Kinect v2-like depth camera with radial distortion.
+/// let k = Intrinsics::new(365.0, 365.0, 256.0, 212.0, [0.09, -0.27, 0.0, 0.0, 0.09]).unwrap();
+/// let point = k.deproject([300.0, 150.0], 2.0);
+/// let back = k.project(point);
+/// assert!((back[0] - 300.0).abs() < 1e-6 && (back[1] - 150.0).abs() < 1e-6);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Intrinsics {
     pub fx: f64,
@@ -100,6 +109,19 @@ impl Intrinsics {
 }
 
 /// A rigid transform: `world = rotation · point + translation`.
+///
+/// ```
+/// use torso_core::camera::Rigid;
+/// // 1.2 m up, the optical axis (z) along world x: optical x is world -y, optical y world -z.
+/// let to_world = Rigid::from_rows([
+///     [0.0, 0.0, 1.0, 0.0],
+///     [-1.0, 0.0, 0.0, 0.0],
+///     [0.0, -1.0, 0.0, 1.2],
+/// ])
+/// .unwrap();
+/// assert_eq!(to_world.apply([0.0, 0.0, 2.0]), [2.0, 0.0, 1.2]);
+/// assert!(Rigid::from_rows([[2.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]]).is_err());
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Rigid {
     pub rotation: [[f64; 3]; 3],
@@ -150,6 +172,17 @@ impl Rigid {
 }
 
 /// Intrinsics and where the camera is in the world.
+///
+/// ```
+/// use torso_core::camera::{Camera, Intrinsics};
+/// let camera = Camera::new(
+///     Intrinsics::new(525.0, 525.0, 319.5, 239.5, [0.0; 5]).unwrap(),
+///     Camera::level(1.0, 0.0),
+/// );
+/// assert_eq!(camera.position(), [0.0, 0.0, 1.0]);
+/// let p = camera.deproject_to_world([319.5, 239.5], 3.0); // the image centre, 3 m away
+/// assert!((p[0] - 3.0).abs() < 1e-12 && (p[2] - 1.0).abs() < 1e-12);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
     pub intrinsics: Intrinsics,

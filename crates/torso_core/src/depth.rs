@@ -24,6 +24,14 @@ pub const MAX_RADIUS: usize = 10;
 const MAX_WINDOW: usize = (2 * MAX_RADIUS + 1) * (2 * MAX_RADIUS + 1);
 
 /// A depth image in metres, borrowed, row-major (`data[row * width + column]`).
+///
+/// ```
+/// use torso_core::depth::DepthImage;
+/// let pixels = vec![1.5f32; 4 * 3];
+/// let image = DepthImage::new(&pixels, 4, 3).unwrap();
+/// assert_eq!((image.width(), image.height()), (4, 3));
+/// assert!(DepthImage::new(&pixels, 5, 3).is_err()); // not 5 x 3 pixels
+/// ```
 #[derive(Clone, Copy, Debug)]
 pub struct DepthImage<'a> {
     data: &'a [f32],
@@ -65,6 +73,15 @@ impl<'a> DepthImage<'a> {
 /// window around it after dropping those more than `band` behind the window's 25th percentile;
 /// fewer than `min_valid` readings left gives NaN. Readings outside `min_depth..=max_depth` (m)
 /// are invalid (holes read 0). Pixels past the image's border repeat its edge.
+///
+/// ```
+/// use torso_core::depth::{DepthImage, DepthLookup};
+/// let pixels = vec![2.0f32; 20 * 20];
+/// let image = DepthImage::new(&pixels, 20, 20).unwrap();
+/// let lookup = DepthLookup { radius: 2, ..DepthLookup::default() };
+/// assert_eq!(lookup.depth_at(&image, [10.0, 10.0]), 2.0);
+/// assert!(DepthLookup { radius: 50, ..lookup }.validate().is_err());
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DepthLookup {
     pub radius: usize,

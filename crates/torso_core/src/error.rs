@@ -7,6 +7,14 @@ use std::fmt;
 ///
 /// Variants carry only `Copy` data so that building an error never allocates: a rejected frame
 /// stays as cheap as an accepted one.
+///
+/// ```
+/// use torso_core::{Error, Forecaster, ForecasterConfig};
+/// let mut f = Forecaster::new(ForecasterConfig::default()).unwrap();
+/// let refused = f.update([f64::NAN, 0.0, 0.0, 0.0, 0.0], 0.0, 1.0);
+/// assert!(matches!(refused, Err(Error::NonFinite { name: "pose", .. })));
+/// assert_eq!(f.len(), 0); // a refused call changes nothing
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Error {
     /// An argument or configuration value outside its domain.

@@ -6,6 +6,12 @@
 use crate::error::{check_len, check_positive, Error, Result};
 
 /// Gating parameters.
+///
+/// ```
+/// use torso_core::GateConfig;
+/// let thesis = GateConfig::default();
+/// assert_eq!((thesis.threshold, thesis.max_replacements), (0.1, 10));
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GateConfig {
     /// Largest accepted frame-to-frame displacement (m). Thesis: 0.10 m.
@@ -26,6 +32,12 @@ impl Default for GateConfig {
 }
 
 /// What the gate did with one joint in one frame.
+///
+/// ```
+/// use torso_core::JointStatus;
+/// assert_eq!(JointStatus::Replaced as u8, 1);
+/// assert_eq!(JointStatus::NAMES[2], ("LOST", JointStatus::Lost));
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 #[repr(u8)]
 pub enum JointStatus {
@@ -52,6 +64,17 @@ impl JointStatus {
 pub const MAX_JOINTS: usize = 1024;
 
 /// Gating state for one person's joints; all buffers are sized at construction.
+///
+/// ```
+/// use torso_core::{GateConfig, JointGate, JointStatus};
+/// let mut gate = JointGate::new(1, GateConfig::default()).unwrap();
+/// let mut status = [JointStatus::Lost];
+/// let mut joint = [[1.0, 0.0, 1.0]];
+/// gate.update(&mut joint, &mut status).unwrap();
+/// let mut jumped = [[1.5, 0.0, 1.0]]; // 0.5 m in one frame: a wrong depth reading
+/// gate.update(&mut jumped, &mut status).unwrap();
+/// assert_eq!((jumped[0], status[0]), ([1.0, 0.0, 1.0], JointStatus::Replaced));
+/// ```
 #[derive(Clone, Debug)]
 pub struct JointGate {
     config: GateConfig,

@@ -14,6 +14,14 @@ use std::f64::consts::{PI, TAU};
 pub const MAX_POSE_VALUE: f64 = 1e6;
 
 /// What [`History::push`] did besides storing the sample.
+///
+/// ```
+/// use torso_core::{Forecaster, ForecasterConfig};
+/// let mut f = Forecaster::new(ForecasterConfig::default()).unwrap();
+/// f.update([0.0; 5], 0.0, 1.0).unwrap();
+/// let report = f.update([0.0; 5], 0.12, 1.0).unwrap(); // two 25 Hz slots were missed
+/// assert_eq!((report.filled, report.restarted), (2, false));
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct UpdateReport {
     /// Missing grid slots filled by interpolation (weight 0) before this sample.
@@ -22,6 +30,14 @@ pub struct UpdateReport {
     pub restarted: bool,
 }
 
+/// ```
+/// use torso_core::history::History;
+/// let mut h = History::new(50, 25.0, 10);
+/// h.push([0.0, 0.0, 0.0, 3.1, 1.5], 0.0, 1.0).unwrap();
+/// h.push([0.0, 0.0, 0.0, -3.1, 1.5], 0.04, 1.0).unwrap();
+/// // The azimuth is unwrapped across the branch cut: a small step, not a turn of 6.2 rad.
+/// assert!((h.get(1).0[3] - (2.0 * std::f64::consts::PI - 3.1)).abs() < 1e-12);
+/// ```
 #[derive(Clone, Debug)]
 pub struct History {
     step: f64,

@@ -10,6 +10,12 @@ use crate::error::{check_len, check_weights, Error, Result};
 use nalgebra::{Matrix3, Vector3};
 
 /// Which side of the body a torso joint is on; the sign of the normal comes from it.
+///
+/// ```
+/// use torso_core::Side;
+/// assert_eq!(Side::from_code('L').unwrap(), Side::Left);
+/// assert!(Side::from_code('X').is_err());
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Side {
     Left,
@@ -44,6 +50,15 @@ pub const MIN_PLANARITY: f64 = 1e-4;
 pub const MIN_ORIENTATION_COSINE: f64 = 0.05;
 
 /// The outcome of one frame's plane fit as a code, for batch results.
+///
+/// ```
+/// use torso_core::fit_torso_plane;
+/// use torso_core::plane::PlaneStatus;
+/// use torso_core::Side;
+/// let two = [[2.0, 0.2, 1.4], [2.0, -0.2, 1.4]];
+/// let result = fit_torso_plane(&two, &[Side::Left, Side::Right], None);
+/// assert_eq!(PlaneStatus::of(&result), PlaneStatus::TooFewJoints);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u8)]
 pub enum PlaneStatus {
@@ -75,6 +90,16 @@ impl PlaneStatus {
 }
 
 /// A fitted torso plane.
+///
+/// ```
+/// use torso_core::{fit_torso_plane, Side};
+/// // Facing +x, upright: azimuth 0, elevation π/2 (the normal is horizontal).
+/// let joints = [[2.0, 0.18, 1.4], [2.0, -0.18, 1.4], [2.0, 0.12, 0.9], [2.0, -0.12, 0.9]];
+/// let sides = [Side::Left, Side::Right, Side::Left, Side::Right];
+/// let plane = fit_torso_plane(&joints, &sides, None).unwrap();
+/// assert!(plane.azimuth.abs() < 1e-9);
+/// assert!((plane.elevation - std::f64::consts::FRAC_PI_2).abs() < 1e-9);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TorsoPlane {
     /// Weighted mean of the valid joints (m).
@@ -334,6 +359,13 @@ fn angles(n: &Vector3<f64>) -> (f64, f64) {
 
 /// A heading from the shoulders alone, for frames where the hips are not seen. It has no
 /// elevation: the shoulder line fixes the facing direction about gravity, nothing more.
+///
+/// ```
+/// use torso_core::shoulder_heading;
+/// // Left shoulder at +y, right at -y: the chest faces +x.
+/// let heading = shoulder_heading([2.0, 0.18, 1.4], [2.0, -0.18, 1.4]).unwrap();
+/// assert!(heading.azimuth.abs() < 1e-12 && heading.centre == [2.0, 0.0, 1.4]);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShoulderHeading {
     /// Midpoint of the shoulders (m), not the torso centre: it sits about 0.25 m higher.

@@ -50,6 +50,19 @@ struct Prediction {
 }
 
 /// The predictions awaiting their time and the scores so far; sized at construction.
+///
+/// ```
+/// use torso_core::selfcheck::{SelfCheck, HORIZONS};
+/// let mut check = SelfCheck::new(25.0);
+/// // A walk at 1 m/s along x whose plain trend comes true: after a while, the x forecast is it.
+/// for k in 0..100 {
+///     let t = k as f64 / 25.0;
+///     let plain = HORIZONS.map(|h| [t + h, 0.0, 1.0, 0.0, 1.5]);
+///     let held = HORIZONS.map(|_| [t, 0.0, 1.0, 0.0, 1.5]);
+///     check.record(t, [t, 0.0, 1.0, 0.0, 1.5], &held, &plain, &held);
+/// }
+/// assert!((check.weights(1.0)[0][2] - 1.0).abs() < 1e-9);
+/// ```
 #[derive(Clone, Debug)]
 pub struct SelfCheck {
     half_step: f64,
@@ -124,11 +137,12 @@ impl SelfCheck {
         self.next = (self.next + 1) % self.ring.len();
     }
 
-    /// Per component, the weights of hold, damped trend and plain trend (non-negative, summing
-    /// to one) for a forecast `horizon` seconds ahead: those of the checked horizon nearest to it
-    /// (on a log scale), once it has been scored a few times. Before that, a shorter horizon's
-    /// (with the angles' trust in a trend moved to the damped trend), and before any check
-    /// [`UNCHECKED`].
+    /// Per component, the weights of hold, damped trend, plain trend and constant velocity
+    /// (non-negative, summing to one) for a forecast `horizon` seconds ahead: those of the
+    /// checked horizon nearest to it (on a log scale), once it has been scored a few times.
+    /// Before that, a shorter horizon's (with the angles' trust in a trend moved to the damped
+    /// trend), and before any check the unchecked mix (the centre's damped trend, the angles
+    /// held).
     pub fn weights(&self, horizon: f64) -> [[f64; CANDIDATES]; 5] {
         let nearest = self.nearest(horizon);
         match self.checked(horizon) {

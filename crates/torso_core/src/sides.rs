@@ -30,6 +30,13 @@ const UNIT_STEP: f64 = 0.04;
 const MAX_STEP: f64 = 0.2;
 
 /// How much each cue counts, and for how long.
+///
+/// ```
+/// use torso_core::sides::FacingConfig;
+/// // Ignore the nose (a detector that finds faces on the backs of heads).
+/// let config = FacingConfig { face_weight: 0.0, ..FacingConfig::default() };
+/// assert_eq!(config.motion_weight, FacingConfig::default().motion_weight);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FacingConfig {
     /// Time constant (s) over which evidence is forgotten.
@@ -51,6 +58,14 @@ impl Default for FacingConfig {
 }
 
 /// What one frame's cues decided.
+///
+/// ```
+/// use torso_core::sides::{Facing, FacingConfig};
+/// let mut facing = Facing::default();
+/// let first = facing.decide(0.0, 0.3, [2.0, 0.0, 1.0], None, &FacingConfig::default());
+/// // A new track takes the labels as they are.
+/// assert!(!first.exchange && !first.turned && (first.heading - 0.3).abs() < 1e-12);
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Decision {
     /// The chest faces the opposite way from the labelled plane's normal this frame: the
@@ -63,6 +78,18 @@ pub struct Decision {
 }
 
 /// One track's heading and the evidence for it.
+///
+/// ```
+/// use torso_core::sides::{Facing, FacingConfig};
+/// let (mut facing, config) = (Facing::default(), FacingConfig::default());
+/// for k in 0..25 {
+///     facing.decide(k as f64 * 0.04, 0.0, [2.0, 0.0, 1.0], None, &config);
+/// }
+/// // After a second of labels facing +x, one frame that says the opposite has its labels
+/// // exchanged back; the track does not turn round.
+/// let once = facing.decide(1.0, std::f64::consts::PI, [2.0, 0.0, 1.0], None, &config);
+/// assert!(once.exchange && !once.turned && once.heading == 0.0);
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Facing {
     heading: Option<f64>,

@@ -16,6 +16,18 @@ use crate::error::{check_len, check_weights, Error, Result};
 
 /// A reusable fitting workspace for up to `capacity` samples at one degree. All buffers are sized
 /// at construction; [`SmoothingSpline::set_abscissae`] and [`SmoothingSpline::fit`] never allocate.
+///
+/// ```
+/// use torso_core::SmoothingSpline;
+/// let x: Vec<f64> = (0..20).map(|k| k as f64).collect();
+/// let y: Vec<f64> = x.iter().map(|t| 2.0 * t + 1.0).collect();
+/// let mut spline = SmoothingSpline::new(3, 20).unwrap();
+/// spline.set_abscissae(&x).unwrap();
+/// let mut coeffs = vec![0.0; spline.coefficient_count()];
+/// spline.fit(&vec![1.0; 20], 1.0, &y, &mut coeffs).unwrap();
+/// // A straight line has no curvature to penalise: the fit is the line.
+/// assert!((spline.evaluate(&coeffs, 7.5) - 16.0).abs() < 1e-9);
+/// ```
 #[derive(Clone, Debug)]
 pub struct SmoothingSpline {
     degree: usize,

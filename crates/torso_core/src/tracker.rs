@@ -54,6 +54,15 @@ pub type Keypoints = [[f64; 3]; N_JOINTS];
 pub const MAX_CAPACITY: usize = 4096;
 
 /// Association, birth and drop rules, and what each track and the depth lookup use.
+///
+/// ```
+/// use torso_core::{Tracker, TrackerConfig};
+/// // Confirm on the first frame, drop after half a second, at most eight people.
+/// let config = TrackerConfig { min_hits: 1, max_missing: 0.5, capacity: 8, ..TrackerConfig::default() };
+/// let tracker = Tracker::new(config).unwrap();
+/// assert_eq!(tracker.config().capacity, 8);
+/// assert!(Tracker::new(TrackerConfig { gate: -1.0, ..config }).is_err());
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TrackerConfig {
     /// Largest torso-centre distance (m) between a track and its detection in one frame: a
@@ -127,6 +136,16 @@ impl TrackerConfig {
 }
 
 /// The track a detection was given.
+///
+/// ```
+/// use torso_core::coco::N_JOINTS;
+/// use torso_core::{Tracker, TrackerConfig};
+/// let mut tracker = Tracker::new(TrackerConfig { min_hits: 1, ..TrackerConfig::default() }).unwrap();
+/// let joints = [[[2.0, 0.0, 1.0]; N_JOINTS]];
+/// let track = tracker.update(0.0, &joints, &[[0.9; N_JOINTS]], [0.0; 3]).unwrap()[0].track.unwrap();
+/// assert_eq!((track.id, track.serial), (Some(1), 1));
+/// assert!(tracker.person(track.slot).is_some());
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct TrackRef {
     /// Where the track lives in the tracker, for [`Tracker::forecast`] and
@@ -139,6 +158,15 @@ pub struct TrackRef {
 }
 
 /// One detection's outcome in a frame.
+///
+/// ```
+/// use torso_core::coco::N_JOINTS;
+/// use torso_core::{Tracker, TrackerConfig};
+/// let mut tracker = Tracker::new(TrackerConfig::default()).unwrap();
+/// let unseen = [[[f64::NAN; 3]; N_JOINTS]]; // a detection with no depth anywhere
+/// let outcome = tracker.update(0.0, &unseen, &[[0.9; N_JOINTS]], [0.0; 3]).unwrap()[0];
+/// assert_eq!((outcome.detection, outcome.track, outcome.observation), (0, None, None));
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Outcome {
     /// Index of the detection in the frame.
@@ -159,6 +187,16 @@ struct Slot {
 }
 
 /// Tracks of every person in a stream. See the [module documentation](self).
+///
+/// ```
+/// use torso_core::coco::N_JOINTS;
+/// use torso_core::{Tracker, TrackerConfig};
+/// let mut tracker = Tracker::new(TrackerConfig::default()).unwrap();
+/// tracker.update(1.0, &[], &[], [0.0; 3]).unwrap();
+/// assert!(tracker.check_time(0.5).is_err()); // earlier than the last frame
+/// let no_people: [[[f64; 3]; N_JOINTS]; 0] = [];
+/// assert!(tracker.update(2.0, &no_people, &[], [0.0; 3]).unwrap().is_empty());
+/// ```
 #[derive(Clone, Debug)]
 pub struct Tracker {
     config: TrackerConfig,
@@ -324,21 +362,29 @@ impl Tracker {
         })
     }
 
-    fn check(
-        &self,
-        t: f64,
-        mut scores: impl ExactSizeIterator<Item = [f64; N_JOINTS]>,
-        camera_position: [f64; 3],
-    ) -> Result<()> {
+    /// Whether a frame at `t` would be taken: a finite time after the last frame's. A caller
+    /// with work to do before the frame reaches the tracker (running a keypoint model) asks
+    /// first.
+    pub fn check_time(&self, t: f64) -> Result<()> {
         if !t.is_finite() {
             return Err(Error::NonFinite {
                 name: "t",
                 index: 0,
             });
         }
-        if let Some(previous) = self.last_t.filter(|&p| !(t > p)) {
-            return Err(Error::TimeNotIncreasing { previous, got: t });
+        match self.last_t.filter(|&p| !(t > p)) {
+            Some(previous) => Err(Error::TimeNotIncreasing { previous, got: t }),
+            None => Ok(()),
         }
+    }
+
+    fn check(
+        &self,
+        t: f64,
+        mut scores: impl ExactSizeIterator<Item = [f64; N_JOINTS]>,
+        camera_position: [f64; 3],
+    ) -> Result<()> {
+        self.check_time(t)?;
         if let Some(index) = camera_position.iter().position(|v| !v.is_finite()) {
             return Err(Error::NonFinite {
                 name: "camera_position",

@@ -167,6 +167,12 @@ impl Tracker {
         self.inner.last_time()
     }
 
+    /// check_time(t): raises as `update` and `step` would for a frame at `t` (not finite, or not
+    /// after the last frame), without changing anything.
+    fn check_time(&self, t: f64) -> PyResult<()> {
+        self.inner.check_time(t).map_err(to_py)
+    }
+
     /// update(t, joints (people, 17, 3), scores (people, 17), camera_position (3,),
     /// horizons=None) -> list[TrackOutcome]: one frame of world joints (NaN where missing).
     /// A refused frame raises and leaves the tracker as it was.

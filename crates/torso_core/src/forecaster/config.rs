@@ -5,6 +5,12 @@ use super::Forecaster;
 use crate::error::Result;
 
 /// How the history is low-pass filtered before the spline fit.
+///
+/// ```
+/// use torso_core::forecaster::{option_named, FilterMode};
+/// assert_eq!(option_named("causal", &FilterMode::OPTIONS), Some(FilterMode::Causal));
+/// assert_eq!(FilterMode::ZeroPhase.as_str(), "zero_phase");
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FilterMode {
     /// No filter (the thesis' "no filter" ablation).
@@ -32,6 +38,11 @@ impl FilterMode {
 
 /// The time unit of the spline abscissae, which sets what `lam` means: the penalty
 /// `λ ∫ f''(t)² dt` scales with the unit cubed.
+///
+/// ```
+/// use torso_core::LambdaUnit;
+/// assert_eq!(LambdaUnit::Seconds.as_str(), "seconds");
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LambdaUnit {
     /// Knots at 0, 1, 2, ... (sample index).
@@ -53,6 +64,13 @@ impl LambdaUnit {
 }
 
 /// How the fitted spline is continued past the last sample.
+///
+/// ```
+/// use torso_core::Extrapolation;
+/// // Hold the azimuth's slope for about 0.2 s, the position's for 2 s.
+/// let rule = Extrapolation::Damped { time_constants: [2.0, 2.0, 2.0, 0.2, 0.1] };
+/// assert_eq!(rule.as_str(), "damped");
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Extrapolation {
     /// Continue the last polynomial piece (what `scipy.interpolate.BSpline` does).
@@ -115,6 +133,13 @@ pub(super) fn damped_time(time_constant: f64, tau: f64) -> f64 {
 }
 
 /// The thesis' filter + spline forecaster.
+///
+/// ```
+/// use torso_core::{FilterSplineConfig, ForecasterConfig, Method};
+/// let cubic = FilterSplineConfig { degree: 3, ..FilterSplineConfig::default() };
+/// let config = ForecasterConfig { method: Method::FilterSpline(cubic), ..ForecasterConfig::default() };
+/// assert!(config.validate().is_ok());
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FilterSplineConfig {
     pub filter: FilterMode,
@@ -151,6 +176,13 @@ impl Default for FilterSplineConfig {
 }
 
 /// The forecasting method.
+///
+/// ```
+/// use torso_core::{ForecasterConfig, Method};
+/// let config = ForecasterConfig::constant_velocity(Some(0.4));
+/// assert_eq!(config.method, Method::ConstantVelocity { window: Some(0.4) });
+/// assert_eq!(config.method.as_str(), "constant_velocity");
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Method {
     /// Zero velocity: the last pose, held ("Const" in the thesis).
@@ -175,6 +207,13 @@ impl Method {
 }
 
 /// Everything a forecaster needs to know; every choice the thesis leaves open is a field.
+///
+/// ```
+/// use torso_core::ForecasterConfig;
+/// let live = ForecasterConfig::live(); // for detector input: all five components low-passed
+/// assert_eq!(live.capacity(), 50); // 2 s at 25 Hz
+/// assert!(ForecasterConfig { rate_hz: 0.0, ..live }.validate().is_err());
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ForecasterConfig {
     /// Rate of the fixed time grid (Hz). Thesis: 25 Hz.

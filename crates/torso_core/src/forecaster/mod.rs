@@ -48,6 +48,15 @@ pub fn check_horizons(horizons: &[f64]) -> Result<()> {
 
 /// One tracked person's forecaster. Every buffer is sized in [`Forecaster::new`]; `update` and
 /// `forecast` never touch the heap.
+///
+/// ```
+/// use torso_core::{Forecaster, ForecasterConfig};
+/// let mut f = Forecaster::new(ForecasterConfig::constant()).unwrap();
+/// f.update([1.0, 2.0, 1.0, 0.5, 1.5], 0.0, 1.0).unwrap();
+/// let mut out = [[0.0; 5]];
+/// f.forecast(&[1.0], &mut out).unwrap();
+/// assert_eq!(out[0], [1.0, 2.0, 1.0, 0.5, 1.5]); // Const holds the last pose
+/// ```
 #[derive(Clone, Debug)]
 pub struct Forecaster {
     config: ForecasterConfig,

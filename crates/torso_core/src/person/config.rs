@@ -7,11 +7,18 @@ use crate::gating::{GateConfig, JointGate};
 use crate::sides::FacingConfig;
 
 /// Per-person parameters.
+///
+/// ```
+/// use torso_core::PersonConfig;
+/// let config = PersonConfig { min_score: 0.5, ..PersonConfig::default() };
+/// assert!(config.sees(0.6) && !config.sees(0.4) && !config.sees(f64::NAN));
+/// assert!(PersonConfig { min_score: 2.0, ..config }.validate().is_err());
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PersonConfig {
     pub forecaster: ForecasterConfig,
     /// The gate's threshold applies to a joint's motion relative to the body's (see
-    /// [`Person::update`]). Thesis: 0.10 m at about 25 frames per second.
+    /// [`Person::update`](super::Person::update)). Thesis: 0.10 m at about 25 frames per second.
     pub gate: GateConfig,
     /// Keypoints scored below this are missing.
     pub min_score: f64,
@@ -22,7 +29,7 @@ pub struct PersonConfig {
     /// `false` gives the forecaster's output as it is.
     pub self_check: bool,
     /// A shoulder or hip pair measured shorter than this fraction of its learned width has the
-    /// depth of its far joint corrected (see [`Person::update`]); 0 turns the correction off.
+    /// depth of its far joint corrected (see [`Person::update`](super::Person::update)); 0 turns the correction off.
     pub occlusion_ratio: f64,
 }
 
@@ -46,7 +53,7 @@ impl PersonConfig {
         score >= self.min_score
     }
 
-    /// Checks every field, as [`Person::new`] does.
+    /// Checks every field, as [`Person::new`](super::Person::new) does.
     pub fn validate(&self) -> Result<()> {
         self.forecaster.validate()?;
         JointGate::new(N_JOINTS, self.gate)?;

@@ -48,6 +48,21 @@ pub fn check_horizons(horizons: &[f64]) -> Result<()> {
 }
 
 /// One person's state across frames.
+///
+/// ```
+/// use torso_core::coco::{self, N_JOINTS};
+/// use torso_core::{Estimate, Person, PersonConfig};
+/// let mut person = Person::new(PersonConfig::default()).unwrap();
+/// let mut joints = [[f64::NAN; 3]; N_JOINTS];
+/// joints[coco::LEFT_SHOULDER] = [2.0, -0.18, 1.4]; // facing the camera at the origin
+/// joints[coco::RIGHT_SHOULDER] = [2.0, 0.18, 1.4];
+/// joints[coco::LEFT_HIP] = [2.0, -0.12, 0.9];
+/// joints[coco::RIGHT_HIP] = [2.0, 0.12, 0.9];
+/// let scores = [0.9; N_JOINTS];
+/// let seen = person.update(0.0, &joints, &scores, [0.0, 0.0, 1.2]).unwrap();
+/// assert_eq!(seen.estimate, Estimate::Plane);
+/// assert!(person.update(0.0, &joints, &scores, [0.0, 0.0, 1.2]).is_err()); // same time: refused
+/// ```
 #[derive(Clone, Debug)]
 pub struct Person {
     config: PersonConfig,

@@ -5,6 +5,11 @@ use crate::gating::JointStatus;
 use crate::Pose;
 
 /// Where a frame's pose came from.
+///
+/// ```
+/// use torso_core::Estimate;
+/// assert_eq!(Estimate::Shoulders as u8, 2);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u8)]
 pub enum Estimate {
@@ -17,6 +22,12 @@ pub enum Estimate {
 }
 
 /// What the forecaster's time grid did with a frame.
+///
+/// ```
+/// use torso_core::GridReport;
+/// let report = GridReport::default();
+/// assert!(!report.skipped && !report.restarted && report.filled == 0);
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct GridReport {
     /// Slots interpolated before this sample.
@@ -28,6 +39,15 @@ pub struct GridReport {
 }
 
 /// What a person's track made of one frame.
+///
+/// ```
+/// use torso_core::coco::N_JOINTS;
+/// use torso_core::{Estimate, Person, PersonConfig};
+/// let mut person = Person::new(PersonConfig::default()).unwrap();
+/// let nothing = [[f64::NAN; 3]; N_JOINTS];
+/// let seen = person.update(0.0, &nothing, &[0.0; N_JOINTS], [0.0; 3]).unwrap();
+/// assert_eq!((seen.pose, seen.estimate), (None, Estimate::None));
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Observation {
     /// `[x, y, z, azimuth, elevation]` in the world frame, azimuth wrapped to (-π, π]; `None`
