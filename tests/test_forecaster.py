@@ -174,14 +174,23 @@ def test_damped_config_reports_its_time_constants():
 
 
 def test_config_round_trips_through_the_forecaster():
-    config = tc.ForecasterConfig("constant_velocity", velocity_window=0.4, degree=3, filter="causal")
+    config = tc.ForecasterConfig("constant_velocity", velocity_window=0.4)
     back = tc.Forecaster(config).config
     assert (back.method, back.velocity_window, back.degree, back.filter) == (
         "constant_velocity",
         0.4,
-        3,
-        "causal",
+        None,  # not a setting of this method
+        None,
     )
+    # A setting of another method would do nothing: it is refused, not ignored.
+    for method, setting in [
+        ("const", {"lam": 2.0}),
+        ("constant_velocity", {"degree": 3}),
+        (None, {"velocity_window": 1.0}),
+    ]:
+        with pytest.raises(tc.InvalidArgumentError, match=next(iter(setting))):
+            tc.ForecasterConfig(method, **setting)
+    assert tc.ForecasterConfig("const").lam is None and tc.ForecasterConfig().lam == 1.0
 
 
 def test_forecast_batch_reads_any_memory_layout_as_its_shape_says():

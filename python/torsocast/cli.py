@@ -30,9 +30,8 @@ def _forecast(args: argparse.Namespace) -> int:
     horizons = _horizons(args.horizons, positive=False)
     if horizons is None:
         return 2
-    config = ForecasterConfig(
-        args.method, degree=args.degree, filter=args.filter, rate_hz=args.rate, history=args.history
-    )
+    spline = {"degree": args.degree, "filter": args.filter} if args.method == "filter_spline" else {}
+    config = ForecasterConfig(args.method, rate_hz=args.rate, history=args.history, **spline)
     forecaster = Forecaster(config)
     try:
         # utf-8-sig: a byte-order mark is not part of the first row.
@@ -288,9 +287,11 @@ def main(argv: list[str] | None = None) -> int:
         type=int,
         default=default.degree,
         choices=range(MAX_DEGREE + 1),
-        help=f"spline degree N (0 to {MAX_DEGREE})",
+        help=f"spline degree N (0 to {MAX_DEGREE}; filter_spline only)",
     )
-    fc.add_argument("--filter", default=default.filter, choices=options["filter"])
+    fc.add_argument(
+        "--filter", default=default.filter, choices=options["filter"], help="low-pass (filter_spline only)"
+    )
     fc.add_argument("--rate", type=float, default=default.rate_hz, help="forecaster grid rate (Hz)")
     fc.add_argument("--history", type=float, default=default.history, help="history length (s)")
     ev = sub.add_parser("eval", help="forecasting evaluation on a dataset")

@@ -1,7 +1,7 @@
 //! Forecaster, its configuration and the batch call.
 
 use crate::arrays::{c_order, matrix, ArrayPair};
-use crate::errors::{shape_error, to_py, unknown_option};
+use crate::errors::{shape_error, to_py, unknown_option, InvalidArgumentError};
 use numpy::{
     AllowTypeChange, PyArray1, PyArray2, PyArray3, PyArrayLike3, PyArrayMethods,
     PyUntypedArrayMethods,
@@ -16,9 +16,6 @@ use torso_core::{Extrapolation, FilterMode, FilterSplineConfig, LambdaUnit, Meth
 #[derive(Clone)]
 pub struct ForecasterConfig {
     pub inner: torso_core::ForecasterConfig,
-    /// Kept for every method so that the getters answer whatever `method` is.
-    spline: FilterSplineConfig,
-    velocity_window: Option<f64>,
 }
 
 impl PartialEq for ForecasterConfig {
@@ -104,6 +101,35 @@ impl ForecasterConfig {
             },
             other => return Err(unknown_option("method", other, &Method::NAMES.join(", "))),
         };
+        // A setting of another method would be silently ignored: refuse it instead.
+        let spline_given = [
+            ("filter", filter.is_some()),
+            ("filter_order", filter_order.is_some()),
+            ("cutoff_hz", cutoff_hz.is_some()),
+            ("filter_components", filter_components.is_some()),
+            ("degree", degree.is_some()),
+            ("lam", lam.is_some()),
+            ("lambda_unit", lambda_unit.is_some()),
+            ("extrapolation", extrapolation.is_some()),
+            ("damping", damping.is_some()),
+        ];
+        let misplaced = match method {
+            Method::FilterSpline(_) => velocity_window.is_some().then_some("velocity_window"),
+            _ => spline_given
+                .iter()
+                .find(|(_, given)| *given)
+                .map(|(n, _)| *n),
+        }
+        .or_else(|| {
+            (velocity_window.is_some() && !matches!(method, Method::ConstantVelocity { .. }))
+                .then_some("velocity_window")
+        });
+        if let Some(name) = misplaced {
+            return Err(InvalidArgumentError::new_err(format!(
+                "`{name}` is not a setting of method {:?}",
+                method.as_str()
+            )));
+        }
         let (rate_hz, history, max_gap, fast_path) = (
             rate_hz.unwrap_or(d.rate_hz),
             history.unwrap_or(d.history),
@@ -118,11 +144,7 @@ impl ForecasterConfig {
             fast_path,
         };
         inner.validate().map_err(to_py)?;
-        Ok(Self {
-            inner,
-            spline,
-            velocity_window,
-        })
+        Ok(Self { inner })
     }
 
     #[getter]
@@ -160,46 +182,51 @@ impl ForecasterConfig {
     fn fast_path(&self) -> bool {
         self.inner.fast_path
     }
+    /// The constant-velocity window (s); None for the whole history or another method.
     #[getter]
     fn velocity_window(&self) -> Option<f64> {
-        self.velocity_window
+        match self.inner.method {
+            Method::ConstantVelocity { window } => window,
+            _ => None,
+        }
+    }
+    // The filter + spline settings: None for the other methods, which have none.
+    #[getter]
+    fn filter(&self) -> Option<&'static str> {
+        self.spline().map(|s| s.filter.as_str())
     }
     #[getter]
-    fn filter(&self) -> &'static str {
-        self.spline.filter.as_str()
+    fn filter_order(&self) -> Option<usize> {
+        self.spline().map(|s| s.filter_order)
     }
     #[getter]
-    fn filter_order(&self) -> usize {
-        self.spline.filter_order
+    fn cutoff_hz(&self) -> Option<f64> {
+        self.spline().map(|s| s.cutoff_hz)
     }
     #[getter]
-    fn cutoff_hz(&self) -> f64 {
-        self.spline.cutoff_hz
+    fn filter_components(&self) -> Option<[bool; 5]> {
+        self.spline().map(|s| s.filter_components)
     }
     #[getter]
-    fn filter_components(&self) -> [bool; 5] {
-        self.spline.filter_components
+    fn degree(&self) -> Option<usize> {
+        self.spline().map(|s| s.degree)
     }
     #[getter]
-    fn degree(&self) -> usize {
-        self.spline.degree
+    fn lam(&self) -> Option<f64> {
+        self.spline().map(|s| s.lam)
     }
     #[getter]
-    fn lam(&self) -> f64 {
-        self.spline.lam
+    fn lambda_unit(&self) -> Option<&'static str> {
+        self.spline().map(|s| s.lambda_unit.as_str())
     }
     #[getter]
-    fn lambda_unit(&self) -> &'static str {
-        self.spline.lambda_unit.as_str()
-    }
-    #[getter]
-    fn extrapolation(&self) -> &'static str {
-        self.spline.extrapolation.as_str()
+    fn extrapolation(&self) -> Option<&'static str> {
+        self.spline().map(|s| s.extrapolation.as_str())
     }
     /// Time constants (s) of the damped trend per component; None for the other rules.
     #[getter]
     fn damping(&self) -> Option<[f64; 5]> {
-        match self.spline.extrapolation {
+        match self.spline()?.extrapolation {
             Extrapolation::Damped { time_constants } => Some(time_constants),
             _ => None,
         }
@@ -298,15 +325,13 @@ impl ForecasterConfig {
     }
 
     pub fn from_core(inner: torso_core::ForecasterConfig) -> Self {
-        let (spline, velocity_window) = match inner.method {
-            Method::FilterSpline(s) => (s, None),
-            Method::ConstantVelocity { window } => (FilterSplineConfig::default(), window),
-            Method::Const => (FilterSplineConfig::default(), None),
-        };
-        Self {
-            inner,
-            spline,
-            velocity_window,
+        Self { inner }
+    }
+
+    fn spline(&self) -> Option<&FilterSplineConfig> {
+        match &self.inner.method {
+            Method::FilterSpline(s) => Some(s),
+            _ => None,
         }
     }
 }
