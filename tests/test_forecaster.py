@@ -169,7 +169,7 @@ def test_config_errors_name_the_argument(kwargs, name):
 def test_damped_config_reports_its_time_constants():
     assert tc.ForecasterConfig(extrapolation="damped").damping == list(ref.DAMPING_H36M_S1)
     config = tc.ForecasterConfig(extrapolation="damped", damping=(1, 2, 3, 4, 5))
-    assert config.damping == [1.0, 2.0, 3.0, 4.0, 5.0] and "damping=(1, 2, 3, 4, 5)" in repr(config)
+    assert config.damping == [1.0, 2.0, 3.0, 4.0, 5.0] and "damping=[1.0, 2.0, 3.0, 4.0, 5.0]" in repr(config)
     assert tc.ForecasterConfig(extrapolation="linear").damping is None
 
 

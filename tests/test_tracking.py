@@ -222,7 +222,8 @@ def test_configs_are_frozen_values_built_from_the_cores_defaults():
     changed = config.replace(gate=0.5, person=config.person.replace(face_weight=0.0))
     assert (changed.gate, changed.person.face_weight, changed.min_hits) == (0.5, 0.0, config.min_hits)
     assert changed != config and config.gate != 0.5  # replace() leaves the original alone
-    for value in (config, changed, config.person, config.depth, tc.ForecasterConfig("const")):
+    forecasters = [tc.ForecasterConfig(m) for m in tc.ForecasterConfig.options()["method"]]
+    for value in (config, changed, config.person, config.depth, *forecasters):
         assert pickle.loads(pickle.dumps(value)) == value
         assert eval(repr(value), vars(tc)) == value  # the repr is the constructor call
     with pytest.raises(AttributeError):

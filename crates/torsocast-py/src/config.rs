@@ -11,10 +11,10 @@ use torso_core::depth::DepthImage;
 use torso_core::sides::FacingConfig;
 use torso_core::GateConfig;
 
-type Fields<'py> = Vec<(&'static str, Bound<'py, PyAny>)>;
+pub type Fields<'py> = Vec<(&'static str, Bound<'py, PyAny>)>;
 
 /// `Name(field=value, ...)` from the class's fields.
-fn repr(name: &str, fields: Fields<'_>) -> PyResult<String> {
+pub fn repr(name: &str, fields: Fields<'_>) -> PyResult<String> {
     let parts: PyResult<Vec<String>> = fields
         .iter()
         .map(|(k, v)| Ok(format!("{k}={}", v.repr()?)))
@@ -52,7 +52,7 @@ fn replaced<'py>(
 }
 
 /// Pickling by keywords: `(args, kwargs)` for `__new__`.
-fn newargs<'py>(py: Python<'py>, fields: Fields<'py>) -> PyResult<Bound<'py, PyTuple>> {
+pub fn newargs<'py>(py: Python<'py>, fields: Fields<'py>) -> PyResult<Bound<'py, PyTuple>> {
     PyTuple::new(
         py,
         [

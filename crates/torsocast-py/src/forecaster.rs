@@ -244,68 +244,13 @@ impl ForecasterConfig {
         Self::live_config()
     }
 
-    /// Pickling by keywords: every field, as `__new__` takes them.
-    fn __getnewargs_ex__<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> PyResult<(Bound<'py, PyTuple>, Bound<'py, PyDict>)> {
-        let kwargs = PyDict::new(py);
-        kwargs.set_item("rate_hz", self.rate_hz())?;
-        kwargs.set_item("history", self.history())?;
-        kwargs.set_item("max_gap", self.max_gap())?;
-        kwargs.set_item("fast_path", self.fast_path())?;
-        kwargs.set_item("velocity_window", self.velocity_window())?;
-        kwargs.set_item("filter", self.filter())?;
-        kwargs.set_item("filter_order", self.filter_order())?;
-        kwargs.set_item("cutoff_hz", self.cutoff_hz())?;
-        kwargs.set_item("filter_components", self.filter_components())?;
-        kwargs.set_item("degree", self.degree())?;
-        kwargs.set_item("lam", self.lam())?;
-        kwargs.set_item("lambda_unit", self.lambda_unit())?;
-        kwargs.set_item("extrapolation", self.extrapolation())?;
-        kwargs.set_item("damping", self.damping())?;
-        Ok((PyTuple::new(py, [self.method()])?, kwargs))
+    /// Pickling by keywords: every setting the method has, as `__new__` takes them.
+    fn __getnewargs_ex__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        crate::config::newargs(py, self.fields(py)?)
     }
 
-    fn __repr__(&self) -> String {
-        let grid = format!(
-            "rate_hz={}, history={}, max_gap={}, fast_path={}",
-            self.inner.rate_hz,
-            self.inner.history,
-            self.inner.max_gap,
-            if self.inner.fast_path {
-                "True"
-            } else {
-                "False"
-            }
-        );
-        match self.inner.method {
-            Method::Const => format!("ForecasterConfig('const', {grid})"),
-            Method::ConstantVelocity { window } => format!(
-                "ForecasterConfig('constant_velocity', {grid}, velocity_window={})",
-                window.map_or("None".to_string(), |w| w.to_string())
-            ),
-            Method::FilterSpline(s) => format!(
-                "ForecasterConfig('filter_spline', {grid}, filter='{}', filter_order={}, cutoff_hz={}, filter_components=({}), degree={}, lam={}, lambda_unit='{}', extrapolation='{}'{})",
-                s.filter.as_str(),
-                s.filter_order,
-                s.cutoff_hz,
-                s.filter_components
-                    .map(|c| if c { "True" } else { "False" })
-                    .join(", "),
-                s.degree,
-                s.lam,
-                s.lambda_unit.as_str(),
-                s.extrapolation.as_str(),
-                match s.extrapolation {
-                    Extrapolation::Damped { time_constants: t } => format!(
-                        ", damping=({}, {}, {}, {}, {})",
-                        t[0], t[1], t[2], t[3], t[4]
-                    ),
-                    _ => String::new(),
-                }
-            ),
-        }
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        crate::config::repr("ForecasterConfig", self.fields(py)?)
     }
 }
 
@@ -326,6 +271,48 @@ impl ForecasterConfig {
 
     pub fn from_core(inner: torso_core::ForecasterConfig) -> Self {
         Self { inner }
+    }
+
+    /// Every setting the method has, by its keyword (the repr and pickling list these).
+    fn fields<'py>(&self, py: Python<'py>) -> PyResult<crate::config::Fields<'py>> {
+        let mut fields = vec![
+            ("method", self.method().into_pyobject(py)?.into_any()),
+            ("rate_hz", self.rate_hz().into_pyobject(py)?.into_any()),
+            ("history", self.history().into_pyobject(py)?.into_any()),
+            ("max_gap", self.max_gap().into_pyobject(py)?.into_any()),
+            (
+                "fast_path",
+                self.fast_path().into_pyobject(py)?.to_owned().into_any(),
+            ),
+        ];
+        if let Method::ConstantVelocity { window } = self.inner.method {
+            fields.push(("velocity_window", window.into_pyobject(py)?.into_any()));
+        }
+        if let Some(s) = self.spline() {
+            fields.extend([
+                ("filter", s.filter.as_str().into_pyobject(py)?.into_any()),
+                ("filter_order", s.filter_order.into_pyobject(py)?.into_any()),
+                ("cutoff_hz", s.cutoff_hz.into_pyobject(py)?.into_any()),
+                (
+                    "filter_components",
+                    s.filter_components.into_pyobject(py)?.into_any(),
+                ),
+                ("degree", s.degree.into_pyobject(py)?.into_any()),
+                ("lam", s.lam.into_pyobject(py)?.into_any()),
+                (
+                    "lambda_unit",
+                    s.lambda_unit.as_str().into_pyobject(py)?.into_any(),
+                ),
+                (
+                    "extrapolation",
+                    s.extrapolation.as_str().into_pyobject(py)?.into_any(),
+                ),
+            ]);
+            if let Extrapolation::Damped { time_constants } = s.extrapolation {
+                fields.push(("damping", time_constants.into_pyobject(py)?.into_any()));
+            }
+        }
+        Ok(fields)
     }
 
     fn spline(&self) -> Option<&FilterSplineConfig> {
