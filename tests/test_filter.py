@@ -69,3 +69,14 @@ def test_bad_filters_raise_value_errors_naming_the_argument():
     lp = tc.LowPass()
     with pytest.raises(tc.NonFiniteError):
         lp.step(float("inf"))
+
+
+def test_a_refused_window_leaves_the_streaming_filter_as_it_was():
+    # The check is the core's (LowPass::filter_window): no sample before the NaN is taken.
+    lp, twin = tc.LowPass(), tc.LowPass()
+    lp.filter([1.0, 2.0, 3.0])
+    twin.filter([1.0, 2.0, 3.0])
+    with pytest.raises(tc.NonFiniteError, match="index 1"):
+        lp.filter([4.0, float("nan")])
+    np.testing.assert_array_equal(lp.filter([5.0, 6.0]), twin.filter([5.0, 6.0]))
+    assert tc.LowPass().sos.shape == tc.butter_lowpass(2, 5.0, 25.0).shape  # the thesis' default

@@ -232,6 +232,14 @@ impl SosFilter {
         v
     }
 
+    /// [`filter_from_steady_state`](Self::filter_from_steady_state) for a window from a caller:
+    /// a window with a non-finite sample is refused and left as it was.
+    pub fn filter_window(&self, x: &mut [f64]) -> Result<()> {
+        check_finite(x)?;
+        self.filter_from_steady_state(x);
+        Ok(())
+    }
+
     /// Causal filtering of a window in place, starting in steady state at its first sample:
     /// `sosfilt(sos, x, zi=sosfilt_zi(sos) * x[0])`.
     pub fn filter_from_steady_state(&self, x: &mut [f64]) {
@@ -294,6 +302,16 @@ impl LowPass {
             state,
             started: false,
         }
+    }
+
+    /// Filters the samples of `x` in place, continuing from the current state. A window with a
+    /// non-finite sample is refused before any sample changes the state.
+    pub fn filter_window(&mut self, x: &mut [f64]) -> Result<()> {
+        check_finite(x)?;
+        for v in x.iter_mut() {
+            *v = self.step(*v)?;
+        }
+        Ok(())
     }
 
     /// Filters one sample. A non-finite sample is rejected and leaves the state untouched.
@@ -365,9 +383,7 @@ impl ZeroPhase {
                 got: n,
             });
         }
-        if let Some(index) = x.iter().position(|v| !v.is_finite()) {
-            return Err(Error::NonFinite { name: "x", index });
-        }
+        check_finite(x)?;
         if n < 2 {
             out.copy_from_slice(x);
             return Ok(());
@@ -390,6 +406,14 @@ impl ZeroPhase {
 
     pub fn padlen(&self) -> usize {
         self.padlen
+    }
+}
+
+/// Refuses a window with a NaN or infinite sample, naming the first.
+fn check_finite(x: &[f64]) -> Result<()> {
+    match x.iter().position(|v| !v.is_finite()) {
+        Some(index) => Err(Error::NonFinite { name: "x", index }),
+        None => Ok(()),
     }
 }
 

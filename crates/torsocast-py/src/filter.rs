@@ -21,46 +21,59 @@ pub fn butter_lowpass(
 /// The designed filter and the finite-checked signal, shared by the window filters.
 fn design_and_signal(
     x: PyArrayLike1<'_, f64, AllowTypeChange>,
-    order: usize,
-    cutoff_hz: f64,
-    rate_hz: f64,
+    order: Option<usize>,
+    cutoff_hz: Option<f64>,
+    rate_hz: Option<f64>,
 ) -> PyResult<(SosFilter, Vec<f64>)> {
+    let (order, cutoff_hz, rate_hz) = thesis_filter(order, cutoff_hz, rate_hz);
     let f = design_lowpass(order, cutoff_hz, rate_hz).map_err(to_py)?;
-    Ok((f, signal(x)?))
+    Ok((f, signal(x)))
 }
 
-fn signal(x: PyArrayLike1<'_, f64, AllowTypeChange>) -> PyResult<Vec<f64>> {
-    let x = contiguous(x.as_array());
-    if let Some(index) = x.iter().position(|v| !v.is_finite()) {
-        return Err(to_py(torso_core::Error::NonFinite { name: "x", index }));
-    }
-    Ok(x)
+fn signal(x: PyArrayLike1<'_, f64, AllowTypeChange>) -> Vec<f64> {
+    contiguous(x.as_array())
 }
 
-/// lowpass_causal(x, order=2, cutoff_hz=5.0, rate_hz=25.0)
+/// The thesis' filter as the core's defaults give it: order, cut-off (Hz), grid rate (Hz).
+fn thesis_filter(
+    order: Option<usize>,
+    cutoff_hz: Option<f64>,
+    rate_hz: Option<f64>,
+) -> (usize, f64, f64) {
+    let spline = torso_core::FilterSplineConfig::default();
+    (
+        order.unwrap_or(spline.filter_order),
+        cutoff_hz.unwrap_or(spline.cutoff_hz),
+        rate_hz.unwrap_or(torso_core::ForecasterConfig::default().rate_hz),
+    )
+}
+
+/// lowpass_causal(x, order=None, cutoff_hz=None, rate_hz=None): the thesis' filter (2nd order,
+/// 5 Hz at 25 Hz) for what is left out
 #[pyfunction]
-#[pyo3(signature = (x, order=2, cutoff_hz=5.0, rate_hz=25.0))]
+#[pyo3(signature = (x, order=None, cutoff_hz=None, rate_hz=None))]
 pub fn lowpass_causal<'py>(
     py: Python<'py>,
     x: PyArrayLike1<'py, f64, AllowTypeChange>,
-    order: usize,
-    cutoff_hz: f64,
-    rate_hz: f64,
+    order: Option<usize>,
+    cutoff_hz: Option<f64>,
+    rate_hz: Option<f64>,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let (f, mut y) = design_and_signal(x, order, cutoff_hz, rate_hz)?;
-    f.filter_from_steady_state(&mut y);
+    f.filter_window(&mut y).map_err(to_py)?;
     Ok(vector(py, &y))
 }
 
-/// lowpass_zero_phase(x, order=2, cutoff_hz=5.0, rate_hz=25.0)
+/// lowpass_zero_phase(x, order=None, cutoff_hz=None, rate_hz=None): the thesis' filter for
+/// what is left out
 #[pyfunction]
-#[pyo3(signature = (x, order=2, cutoff_hz=5.0, rate_hz=25.0))]
+#[pyo3(signature = (x, order=None, cutoff_hz=None, rate_hz=None))]
 pub fn lowpass_zero_phase<'py>(
     py: Python<'py>,
     x: PyArrayLike1<'py, f64, AllowTypeChange>,
-    order: usize,
-    cutoff_hz: f64,
-    rate_hz: f64,
+    order: Option<usize>,
+    cutoff_hz: Option<f64>,
+    rate_hz: Option<f64>,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let (f, x) = design_and_signal(x, order, cutoff_hz, rate_hz)?;
     let mut y = vec![0.0; x.len()];
@@ -70,7 +83,8 @@ pub fn lowpass_zero_phase<'py>(
     Ok(vector(py, &y))
 }
 
-/// LowPass(order=2, cutoff_hz=5.0, rate_hz=25.0): streaming causal low-pass.
+/// LowPass(order=None, cutoff_hz=None, rate_hz=None): streaming causal low-pass (the thesis'
+/// filter for what is left out).
 #[pyclass(module = "torsocast._core")]
 pub struct LowPass {
     inner: torso_core::LowPass,
@@ -79,8 +93,9 @@ pub struct LowPass {
 #[pymethods]
 impl LowPass {
     #[new]
-    #[pyo3(signature = (order=2, cutoff_hz=5.0, rate_hz=25.0))]
-    fn new(order: usize, cutoff_hz: f64, rate_hz: f64) -> PyResult<Self> {
+    #[pyo3(signature = (order=None, cutoff_hz=None, rate_hz=None))]
+    fn new(order: Option<usize>, cutoff_hz: Option<f64>, rate_hz: Option<f64>) -> PyResult<Self> {
+        let (order, cutoff_hz, rate_hz) = thesis_filter(order, cutoff_hz, rate_hz);
         let f: SosFilter = design_lowpass(order, cutoff_hz, rate_hz).map_err(to_py)?;
         Ok(Self {
             inner: torso_core::LowPass::new(f),
@@ -98,10 +113,8 @@ impl LowPass {
         py: Python<'py>,
         x: PyArrayLike1<'py, f64, AllowTypeChange>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let mut y = signal(x)?;
-        for v in y.iter_mut() {
-            *v = self.inner.step(*v).map_err(to_py)?;
-        }
+        let mut y = signal(x);
+        self.inner.filter_window(&mut y).map_err(to_py)?;
         Ok(vector(py, &y))
     }
 
