@@ -152,6 +152,25 @@ def test_run_leaves_out_a_frame_that_repeats_a_time_stamp(walk, tmp_path, capsys
     assert times == [f.time for f in frames]
 
 
+def test_a_frame_stamped_an_hour_ahead_costs_one_restart_not_the_following_hour(walk, tmp_path, capsys):
+    # It used to make the pipeline refuse every frame of the following hour as out of order.
+    import dataclasses
+
+    from torsocast.keypoints import open_model
+    from torsocast.run import run
+
+    frames = list(MocapScene(walk, fps=10.0))[:20]
+    stamped = frames[:8] + [dataclasses.replace(frames[8], time=3600.0)] + frames[9:]
+    summary = run(Replay(stamped), open_model(None), tmp_path, progress=False)
+    assert summary.frames == 20 and summary.rejected == 0
+    err = capsys.readouterr().err
+    assert "frame 9" in err and "tracking starts again" in err
+    records = [json.loads(line) for line in (tmp_path / "frames.jsonl").read_text().splitlines()]
+    ids = [p["id"] for r in records for p in r["people"] if p["id"] is not None]
+    assert len(set(ids)) == 2 and ids[-1] == 2  # a new track after the restart; no id given twice
+    assert records[-1]["people"][0]["forecast"] is not None
+
+
 def test_the_demo_camera_sees_the_walk_come_towards_it(walk):
     camera = watching_camera(walk[:, cmu.PELVIS])
     position = np.asarray(camera.camera_to_world)[:3, 3]

@@ -110,3 +110,90 @@ def test_a_plane_fit_is_finite_or_a_typed_error(points):
 def test_sizes_from_callers_are_typed_errors(size):
     with pytest.raises((tc.TorsocastError, OverflowError)):
         tc.JointGate(size)
+
+
+def _tracker_state(tracker):
+    """What a refused frame must not change: the time, the live tracks, each confirmed track's
+    history and forecast."""
+    tracks = [(s.id, s.key, s.samples, s.last_time) for s in tracker.tracks]
+    ahead = [tracker.forecast(s.id, [0.4, 1.0]) for s in tracker.tracks]
+    return tracker.last_time, len(tracker), tracks, [None if a is None else a.tobytes() for a in ahead]
+
+
+def _walkers(tracker, frames=20):
+    rng = np.random.default_rng(1)
+    for k in range(frames):
+        joints = np.stack([[2.0 + 0.04 * k, y, 1.0] + rng.normal(0, 0.01, (17, 3)) for y in (-1.0, 1.0)])
+        joints[:, 5:7, 1] += [[0.18, -0.18]]  # shoulders apart: a torso plane to fit
+        joints[:, 11:13, 1] += [[0.12, -0.12]]
+        joints[:, 11:13, 2] -= 0.5
+        tracker.update(k / 25, joints, np.full((2, 17), 0.9), [0.0, 0.0, 1.0])
+
+
+@SETTINGS
+@given(
+    joints=st.lists(
+        st.lists(st.lists(ANY_FLOAT, min_size=3, max_size=3), min_size=17, max_size=17), max_size=3
+    ),
+    score=ANY_FLOAT,
+    t=ANY_FLOAT,
+    camera=st.lists(ANY_FLOAT, min_size=3, max_size=3),
+)
+def test_a_tracker_takes_a_frame_whole_or_refuses_it_whole(joints, score, t, camera):
+    tracker = tc.Tracker(tc.TrackerConfig(min_hits=1))
+    _walkers(tracker)
+    before = _tracker_state(tracker)
+    j = np.array(joints, dtype=float).reshape(-1, 17, 3)
+    scores = np.full(j.shape[:2], score)
+    try:
+        out = tracker.update(t, j, scores, camera, [0.4, 1.0])
+    except tc.TorsocastError:
+        assert _tracker_state(tracker) == before
+        return
+    assert len(out) == len(j) and tracker.last_time == t
+    for outcome in out:
+        pose = outcome.observation.pose if outcome.observation is not None else None
+        assert pose is None or np.isfinite(pose).all()
+        assert outcome.forecast is None or np.isfinite(outcome.forecast).all()
+
+
+@SETTINGS
+@given(
+    uv=st.lists(st.tuples(ANY_FLOAT, ANY_FLOAT), min_size=17, max_size=17),
+    depth_value=ANY_FLOAT,
+    intrinsics=st.tuples(ANY_FLOAT, ANY_FLOAT, ANY_FLOAT, ANY_FLOAT),
+)
+def test_a_tracker_step_lifts_any_pixels_to_finite_joints_or_refuses(uv, depth_value, intrinsics):
+    tracker = tc.Tracker()
+    keypoints = np.array([[u, v, 0.9] for u, v in uv])[None]
+    with np.errstate(over="ignore"):  # a huge reading becomes an infinite float32 one: also hostile
+        depth = np.full((48, 64), depth_value, dtype=np.float32)
+    camera_to_world = np.eye(4)
+    try:
+        joints, out = tracker.step(0.0, keypoints, depth, intrinsics, (0.0,) * 5, camera_to_world)
+    except tc.TorsocastError:
+        assert tracker.last_time is None and len(tracker) == 0
+        return
+    # A joint is either lifted to a finite point or missing (NaN in all three coordinates).
+    seen = np.isfinite(joints).all(axis=-1)
+    assert (seen | np.isnan(joints).all(axis=-1)).all()
+    assert len(out) == 1 and tracker.last_time == 0.0
+
+
+@pytest.mark.parametrize(
+    ("make", "name"),
+    [
+        (lambda: tc.JointGate(-1), "n_joints"),
+        (lambda: tc.TrackerConfig(capacity=-3), "capacity"),
+        (lambda: tc.TrackerConfig(min_hits=-1), "min_hits"),
+        (lambda: tc.DepthLookup(radius=-1), "radius"),
+        (lambda: tc.PersonConfig(gate_max_replacements=-1), "gate_max_replacements"),
+        (lambda: tc.ForecasterConfig(degree=-1), "degree"),
+        (lambda: tc.LowPass(order=-2), "order"),
+        (lambda: tc.butter_lowpass(-1, 5.0, 25.0), "order"),
+    ],
+)
+def test_a_negative_count_is_a_typed_error_naming_the_argument(make, name):
+    # pyo3's own conversion raised an OverflowError that named nothing.
+    with pytest.raises(tc.InvalidArgumentError, match=f"`{name}` = -"):
+        make()

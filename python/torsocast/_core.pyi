@@ -416,6 +416,9 @@ class Tracker:
     def forecast(self, track_id: int, horizons: Sequence[float]) -> _F64 | None:
         """The confirmed track's ``(len(horizons), 5)`` forecast; None for an unknown id or a
         history too short."""
+    def restart(self) -> None:
+        """Drops every track and forgets the last frame's time, as for a new stream; ids go on
+        counting."""
     def __len__(self) -> int:
         """Live tracks, tentative ones included."""
 

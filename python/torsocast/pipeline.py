@@ -43,6 +43,9 @@ class FrameResult:
     intervals: dict[int, F64] = field(default_factory=dict)
     """Detection index -> ``(horizons, 5)`` half-widths of the 80 % intervals around its
     forecast, once the track has checked its forecasts."""
+    restarted_from: float | None = None
+    """The previous frame's time when this frame's clock went back by more than
+    :attr:`Pipeline.restart_after`: every track was dropped and tracking started again."""
 
 
 @dataclass
@@ -52,6 +55,11 @@ class Pipeline:
     tracker_config: TrackerConfig = field(default_factory=TrackerConfig)
     seconds: dict[str, float] = field(default_factory=lambda: defaultdict(float))
     frames: int = 0
+    restart_after: float = 10.0
+    """Seconds a frame's time stamp may lie before the previous frame's and still be refused as
+    out of order; a frame further back starts the stream again (every track dropped, ids go on
+    counting): a recording replayed from its start, or the frames after one stamped far ahead,
+    which would otherwise all be refused."""
 
     def __post_init__(self) -> None:
         if any(not (np.isfinite(h) and h > 0) for h in self.horizons):
@@ -67,10 +75,14 @@ class Pipeline:
         frame's raises :class:`~torsocast.TimeNotIncreasingError` before the model runs, and one
         whose model output is unusable raises :class:`BadFrameError`; either changes nothing."""
         # The tracker's time rule, asked before the model runs so that a refused frame costs none.
+        restarted_from = None
         try:
             self.tracker.check_time(frame.time)
         except TimeNotIncreasingError as e:
-            raise TimeNotIncreasingError(f"frame {frame.index}: {e}") from e
+            last = self.tracker.last_time
+            if last is None or not last - frame.time > self.restart_after:
+                raise TimeNotIncreasingError(f"frame {frame.index}: {e}") from e
+            restarted_from = last
         except TorsocastError as e:
             raise BadFrameError(f"frame {frame.index}: {e}") from e
         if frame.depth is not None and frame.depth.shape != frame.color.shape[:2]:
@@ -81,6 +93,8 @@ class Pipeline:
         clock = time.perf_counter()
         detections = self.model(frame.color)
         clock = self._lap("model", clock)
+        if restarted_from is not None:
+            self.tracker.restart()
         if frame.depth is None or frame.camera is None:
             # No 3D joints: the frame still passes the tracker (its time stamp, the model's
             # scores), which ages the tracks and opens none.
@@ -92,7 +106,7 @@ class Pipeline:
                 ),
             )
             self.frames += 1
-            return FrameResult(frame, detections, None, [], {})
+            return FrameResult(frame, detections, None, [], {}, restarted_from=restarted_from)
         camera = frame.camera
         k = camera.intrinsics
         joints, people = self._tracked(
@@ -107,7 +121,9 @@ class Pipeline:
                 list(self.horizons),
             ),
         )
-        return self._finish(frame, detections, joints, people, clock)
+        result = self._finish(frame, detections, joints, people, clock)
+        result.restarted_from = restarted_from
+        return result
 
     @property
     def last_time(self) -> float | None:

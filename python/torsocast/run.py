@@ -90,6 +90,13 @@ def run(
                     print(f"frame {frame.index} left out: {e}", file=sys.stderr)
                 rejected += 1
                 continue
+            if result.restarted_from is not None:
+                back = result.restarted_from - frame.time
+                print(
+                    f"frame {frame.index}: its time {frame.time:g} s is {back:g} s before the previous "
+                    "frame's: every track dropped, tracking starts again",
+                    file=sys.stderr,
+                )
             jsonl.write(result)
             ids.update(p.track_id for p in result.people if p.track_id is not None)
             if overlay or movie:

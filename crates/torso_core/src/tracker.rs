@@ -245,6 +245,18 @@ impl Tracker {
         &self.config
     }
 
+    /// Drops every track and forgets the last frame's time, as for a new stream; ids and keys
+    /// go on counting, so that no id is given twice. A stream whose clock jumped (a recording
+    /// replayed from its start, one frame stamped far ahead) starts again from here.
+    pub fn restart(&mut self) {
+        for &i in &self.active {
+            self.slots[i].person.reset();
+            self.free.push(i);
+        }
+        self.active.clear();
+        self.last_t = None;
+    }
+
     /// Live tracks, tentative ones included.
     pub fn live(&self) -> usize {
         self.active.len()
@@ -590,6 +602,22 @@ mod tests {
         send_and_sync::<Person>();
         send_and_sync::<crate::Forecaster>();
         send_and_sync::<DepthImage<'_>>();
+    }
+
+    #[test]
+    fn a_restart_drops_every_track_and_keeps_counting_ids() {
+        let mut tracker = Tracker::new(TrackerConfig {
+            min_hits: 1,
+            ..TrackerConfig::default()
+        })
+        .unwrap();
+        let two = [body(2.0, 0.0), body(3.0, 1.0)];
+        tracker.update(3600.0, &two, &[SEEN; 2], [0.0; 3]).unwrap();
+        assert!(tracker.check_time(10.0).is_err());
+        tracker.restart();
+        assert_eq!((tracker.live(), tracker.last_time()), (0, None));
+        let out = tracker.update(10.0, &two[..1], &[SEEN], [0.0; 3]).unwrap();
+        assert_eq!(out[0].track.unwrap().id, Some(3));
     }
 
     #[test]

@@ -288,3 +288,54 @@ fn both_continuations_come_from_one_fit_and_bad_arguments_are_refused() {
         .forecast_both(&[0.4, -1.0], &mut damped, &mut plain)
         .is_err());
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    /// Any frame of any values is taken whole (finite poses and forecasts) or refused whole
+    /// (the tracker exactly as before), after a few good frames.
+    #[test]
+    fn a_tracker_takes_a_frame_whole_or_refuses_it_whole(
+        values in prop::collection::vec(
+            prop_oneof![
+                -1e308f64..1e308,
+                -5.0f64..5.0,
+                Just(f64::NAN),
+                Just(f64::INFINITY),
+            ],
+            51 * 2,
+        ),
+        score in prop_oneof![0.0f64..1.0, -1.0f64..2.0, Just(f64::NAN)],
+        t in prop_oneof![0.0f64..2.0, Just(f64::NAN), Just(f64::INFINITY)],
+        people in 0usize..=2,
+    ) {
+        let mut tracker = Tracker::new(TrackerConfig { min_hits: 1, ..TrackerConfig::default() }).unwrap();
+        for k in 0..20 {
+            let body: coco::Joints = std::array::from_fn(|j| [2.0 + 0.04 * k as f64, 0.1 * (j % 3) as f64, 1.7 - 0.05 * j as f64]);
+            tracker.update(k as f64 / 25.0, &[body], &[[0.9; coco::N_JOINTS]], [0.0, 0.0, 1.0]).unwrap();
+        }
+        let before = format!("{tracker:?}");
+        let joints: Vec<coco::Joints> = (0..people)
+            .map(|p| std::array::from_fn(|j| std::array::from_fn(|c| values[p * 51 + j * 3 + c])))
+            .collect();
+        let scores = vec![[score; coco::N_JOINTS]; people];
+        match tracker.update(t, &joints, &scores, [0.0, 0.0, 1.0]) {
+            Err(_) => prop_assert_eq!(format!("{tracker:?}"), before),
+            Ok(outcomes) => {
+                let outcomes = outcomes.to_vec();
+                prop_assert_eq!(outcomes.len(), people);
+                let mut out = [[0.0; 5]; 2];
+                for o in outcomes {
+                    if let Some(pose) = o.observation.and_then(|obs| obs.pose) {
+                        prop_assert!(pose.iter().all(|v| v.is_finite()));
+                    }
+                    if let Some(track) = o.track {
+                        if tracker.forecast(track.slot, &[0.4, 1.0], &mut out).unwrap() {
+                            prop_assert!(out.iter().flatten().all(|v| v.is_finite()));
+                        }
+                    }
+                }
+            }
+        }
+    }
+}

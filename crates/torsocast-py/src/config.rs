@@ -2,7 +2,7 @@
 //! core's `Default`, so no default number is written in the binding. Each class lists its fields
 //! once (`fields`), and its repr, equality, pickling and `replace` are built from that list.
 
-use crate::errors::to_py;
+use crate::errors::{count_or, to_py};
 use crate::forecaster::ForecasterConfig;
 use numpy::{AllowTypeChange, PyArrayDyn, PyArrayLikeDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -138,7 +138,7 @@ impl PersonConfig {
     fn new(
         forecaster: Option<PyRef<'_, ForecasterConfig>>,
         gate_threshold: Option<f64>,
-        gate_max_replacements: Option<u32>,
+        gate_max_replacements: Option<i64>,
         min_score: Option<f64>,
         facing_memory: Option<f64>,
         face_weight: Option<f64>,
@@ -151,7 +151,11 @@ impl PersonConfig {
             forecaster: forecaster.map_or(d.forecaster, |f| f.inner),
             gate: GateConfig {
                 threshold: gate_threshold.unwrap_or(d.gate.threshold),
-                max_replacements: gate_max_replacements.unwrap_or(d.gate.max_replacements),
+                max_replacements: count_or(
+                    "gate_max_replacements",
+                    gate_max_replacements,
+                    d.gate.max_replacements,
+                )?,
             },
             min_score: min_score.unwrap_or(d.min_score),
             facing: FacingConfig {
@@ -260,17 +264,17 @@ impl DepthLookup {
     #[new]
     #[pyo3(signature = (*, radius=None, band=None, min_valid=None, min_depth=None, max_depth=None))]
     fn new(
-        radius: Option<usize>,
+        radius: Option<i64>,
         band: Option<f64>,
-        min_valid: Option<usize>,
+        min_valid: Option<i64>,
         min_depth: Option<f64>,
         max_depth: Option<f64>,
     ) -> PyResult<Self> {
         let d = torso_core::depth::DepthLookup::default();
         let inner = torso_core::depth::DepthLookup {
-            radius: radius.unwrap_or(d.radius),
+            radius: count_or("radius", radius, d.radius)?,
             band: band.unwrap_or(d.band),
-            min_valid: min_valid.unwrap_or(d.min_valid),
+            min_valid: count_or("min_valid", min_valid, d.min_valid)?,
             min_depth: min_depth.unwrap_or(d.min_depth),
             max_depth: max_depth.unwrap_or(d.max_depth),
         };
@@ -379,20 +383,20 @@ impl TrackerConfig {
     #[allow(clippy::too_many_arguments)]
     fn new(
         gate: Option<f64>,
-        min_hits: Option<u32>,
+        min_hits: Option<i64>,
         max_missing: Option<f64>,
-        capacity: Option<usize>,
-        max_detections: Option<usize>,
+        capacity: Option<i64>,
+        max_detections: Option<i64>,
         person: Option<PyRef<'_, PersonConfig>>,
         depth: Option<PyRef<'_, DepthLookup>>,
     ) -> PyResult<Self> {
         let d = torso_core::TrackerConfig::default();
         let inner = torso_core::TrackerConfig {
             gate: gate.unwrap_or(d.gate),
-            min_hits: min_hits.unwrap_or(d.min_hits),
+            min_hits: count_or("min_hits", min_hits, d.min_hits)?,
             max_missing: max_missing.unwrap_or(d.max_missing),
-            capacity: capacity.unwrap_or(d.capacity),
-            max_detections: max_detections.unwrap_or(d.max_detections),
+            capacity: count_or("capacity", capacity, d.capacity)?,
+            max_detections: count_or("max_detections", max_detections, d.max_detections)?,
             person: person.map_or(d.person, |p| p.inner),
             depth: depth.map_or(d.depth, |l| l.inner),
         };

@@ -83,6 +83,21 @@ pub fn to_py(error: Error) -> PyErr {
     }
 }
 
+/// A count or size from a Python int: a negative or oversized one raises `InvalidArgumentError`
+/// naming the argument (pyo3's own conversion raises an `OverflowError` that names nothing).
+pub fn count<T: TryFrom<i64>>(name: &str, value: i64) -> PyResult<T> {
+    T::try_from(value).map_err(|_| {
+        InvalidArgumentError::new_err(format!(
+            "invalid `{name}` = {value}: expected a non-negative count"
+        ))
+    })
+}
+
+/// [`count`] for an optional argument.
+pub fn count_or<T: TryFrom<i64>>(name: &str, value: Option<i64>, default: T) -> PyResult<T> {
+    value.map_or(Ok(default), |v| count(name, v))
+}
+
 /// Raises `ShapeError` naming the argument and the shape it should have had.
 pub fn shape_error(name: &str, expected: &str, got: &[usize]) -> PyErr {
     ShapeError::new_err(format!("`{name}` has shape {got:?}, expected {expected}"))

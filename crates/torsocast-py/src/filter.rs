@@ -1,7 +1,7 @@
 //! Butterworth design and filtering.
 
 use crate::arrays::{contiguous, matrix, vector};
-use crate::errors::to_py;
+use crate::errors::{count, count_or, to_py};
 use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLike1};
 use pyo3::prelude::*;
 use torso_core::{design_lowpass, SosFilter, ZeroPhase};
@@ -10,22 +10,22 @@ use torso_core::{design_lowpass, SosFilter, ZeroPhase};
 #[pyfunction]
 pub fn butter_lowpass(
     py: Python<'_>,
-    order: usize,
+    order: i64,
     cutoff_hz: f64,
     rate_hz: f64,
 ) -> PyResult<Bound<'_, PyArray2<f64>>> {
-    let f = design_lowpass(order, cutoff_hz, rate_hz).map_err(to_py)?;
+    let f = design_lowpass(count("order", order)?, cutoff_hz, rate_hz).map_err(to_py)?;
     matrix(py, f.sections())
 }
 
 /// The designed filter and the finite-checked signal, shared by the window filters.
 fn design_and_signal(
     x: PyArrayLike1<'_, f64, AllowTypeChange>,
-    order: Option<usize>,
+    order: Option<i64>,
     cutoff_hz: Option<f64>,
     rate_hz: Option<f64>,
 ) -> PyResult<(SosFilter, Vec<f64>)> {
-    let (order, cutoff_hz, rate_hz) = thesis_filter(order, cutoff_hz, rate_hz);
+    let (order, cutoff_hz, rate_hz) = thesis_filter(order, cutoff_hz, rate_hz)?;
     let f = design_lowpass(order, cutoff_hz, rate_hz).map_err(to_py)?;
     Ok((f, signal(x)))
 }
@@ -36,16 +36,16 @@ fn signal(x: PyArrayLike1<'_, f64, AllowTypeChange>) -> Vec<f64> {
 
 /// The thesis' filter as the core's defaults give it: order, cut-off (Hz), grid rate (Hz).
 fn thesis_filter(
-    order: Option<usize>,
+    order: Option<i64>,
     cutoff_hz: Option<f64>,
     rate_hz: Option<f64>,
-) -> (usize, f64, f64) {
+) -> PyResult<(usize, f64, f64)> {
     let spline = torso_core::FilterSplineConfig::default();
-    (
-        order.unwrap_or(spline.filter_order),
+    Ok((
+        count_or("order", order, spline.filter_order)?,
         cutoff_hz.unwrap_or(spline.cutoff_hz),
         rate_hz.unwrap_or(torso_core::ForecasterConfig::default().rate_hz),
-    )
+    ))
 }
 
 /// lowpass_causal(x, order=None, cutoff_hz=None, rate_hz=None): the thesis' filter (2nd order,
@@ -55,7 +55,7 @@ fn thesis_filter(
 pub fn lowpass_causal<'py>(
     py: Python<'py>,
     x: PyArrayLike1<'py, f64, AllowTypeChange>,
-    order: Option<usize>,
+    order: Option<i64>,
     cutoff_hz: Option<f64>,
     rate_hz: Option<f64>,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
@@ -71,7 +71,7 @@ pub fn lowpass_causal<'py>(
 pub fn lowpass_zero_phase<'py>(
     py: Python<'py>,
     x: PyArrayLike1<'py, f64, AllowTypeChange>,
-    order: Option<usize>,
+    order: Option<i64>,
     cutoff_hz: Option<f64>,
     rate_hz: Option<f64>,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
@@ -94,8 +94,8 @@ pub struct LowPass {
 impl LowPass {
     #[new]
     #[pyo3(signature = (order=None, cutoff_hz=None, rate_hz=None))]
-    fn new(order: Option<usize>, cutoff_hz: Option<f64>, rate_hz: Option<f64>) -> PyResult<Self> {
-        let (order, cutoff_hz, rate_hz) = thesis_filter(order, cutoff_hz, rate_hz);
+    fn new(order: Option<i64>, cutoff_hz: Option<f64>, rate_hz: Option<f64>) -> PyResult<Self> {
+        let (order, cutoff_hz, rate_hz) = thesis_filter(order, cutoff_hz, rate_hz)?;
         let f: SosFilter = design_lowpass(order, cutoff_hz, rate_hz).map_err(to_py)?;
         Ok(Self {
             inner: torso_core::LowPass::new(f),

@@ -1,7 +1,7 @@
 //! Forecaster, its configuration and the batch call.
 
 use crate::arrays::{c_order, matrix, ArrayPair};
-use crate::errors::{shape_error, to_py, unknown_option, InvalidArgumentError};
+use crate::errors::{count_or, shape_error, to_py, unknown_option, InvalidArgumentError};
 use numpy::{
     AllowTypeChange, PyArray1, PyArray2, PyArray3, PyArrayLike3, PyArrayMethods,
     PyUntypedArrayMethods,
@@ -67,10 +67,10 @@ impl ForecasterConfig {
         fast_path: Option<bool>,
         velocity_window: Option<f64>,
         filter: Option<&str>,
-        filter_order: Option<usize>,
+        filter_order: Option<i64>,
         cutoff_hz: Option<f64>,
         filter_components: Option<[bool; 5]>,
-        degree: Option<usize>,
+        degree: Option<i64>,
         lam: Option<f64>,
         lambda_unit: Option<&str>,
         extrapolation: Option<&str>,
@@ -83,10 +83,10 @@ impl ForecasterConfig {
         };
         let spline = FilterSplineConfig {
             filter: filter.map_or(Ok(ds.filter), |f| parse("filter", f, &FilterMode::OPTIONS))?,
-            filter_order: filter_order.unwrap_or(ds.filter_order),
+            filter_order: count_or("filter_order", filter_order, ds.filter_order)?,
             cutoff_hz: cutoff_hz.unwrap_or(ds.cutoff_hz),
             filter_components: filter_components.unwrap_or(ds.filter_components),
-            degree: degree.unwrap_or(ds.degree),
+            degree: count_or("degree", degree, ds.degree)?,
             lam: lam.unwrap_or(ds.lam),
             lambda_unit: lambda_unit.map_or(Ok(ds.lambda_unit), |u| {
                 parse("lambda_unit", u, &LambdaUnit::OPTIONS)

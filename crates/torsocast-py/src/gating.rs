@@ -1,7 +1,7 @@
 //! Per-joint temporal gating.
 
 use crate::arrays::{contiguous, expect_last, matrix, points, ArrayPair};
-use crate::errors::to_py;
+use crate::errors::{count, count_or, to_py};
 use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLike2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use torso_core::{GateConfig, JointStatus};
@@ -17,16 +17,13 @@ pub struct JointGate {
 impl JointGate {
     #[new]
     #[pyo3(signature = (n_joints, threshold=None, max_replacements=None))]
-    fn new(
-        n_joints: usize,
-        threshold: Option<f64>,
-        max_replacements: Option<u32>,
-    ) -> PyResult<Self> {
+    fn new(n_joints: i64, threshold: Option<f64>, max_replacements: Option<i64>) -> PyResult<Self> {
+        let n_joints: usize = count("n_joints", n_joints)?;
         // Left out: the core's defaults (the thesis' 10 cm and 10 frames).
         let d = GateConfig::default();
         let config = GateConfig {
             threshold: threshold.unwrap_or(d.threshold),
-            max_replacements: max_replacements.unwrap_or(d.max_replacements),
+            max_replacements: count_or("max_replacements", max_replacements, d.max_replacements)?,
         };
         Ok(Self {
             inner: torso_core::JointGate::new(n_joints, config).map_err(to_py)?,

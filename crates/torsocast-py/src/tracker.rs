@@ -331,6 +331,12 @@ impl Tracker {
         }
     }
 
+    /// restart(): drops every track and forgets the last frame's time, as for a new stream; ids
+    /// go on counting.
+    fn restart(&mut self) {
+        self.inner.restart();
+    }
+
     /// Live tracks, tentative ones included.
     fn __len__(&self) -> usize {
         self.inner.live()
