@@ -206,13 +206,7 @@ mod tests {
 
     #[test]
     fn small_problems_match_brute_force() {
-        let mut state = 12345u64;
-        let mut next = || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = crate::testing::uniform(12345);
         for rows in 1..=5 {
             for cols in 1..=5 {
                 for _ in 0..20 {

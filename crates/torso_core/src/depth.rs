@@ -264,13 +264,7 @@ mod tests {
     #[test]
     fn the_lookup_matches_its_plain_definition_inside_at_the_borders_and_on_holes() {
         let (w, h) = (37usize, 23usize);
-        let mut state = 7u64;
-        let mut next = || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = crate::testing::uniform(7);
         let levels = [0.0, f32::NAN, 1.0, 1.05, 1.1, 1.3, 2.5, 11.0];
         let data: Vec<f32> = (0..w * h)
             .map(|_| levels[(next() * levels.len() as f64) as usize] + 0.01 * next() as f32)

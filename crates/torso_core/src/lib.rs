@@ -89,3 +89,19 @@ pub type Pose = [f64; 5];
 pub const AZIMUTH: usize = 3;
 /// Index of the elevation in a [`Pose`].
 pub const ELEVATION: usize = 4;
+
+/// Helpers shared by the unit tests.
+#[cfg(test)]
+pub(crate) mod testing {
+    /// A reproducible stream of uniform numbers in [0, 1) (a 64-bit linear congruential
+    /// generator), so that tests need no random-number crate.
+    pub fn uniform(seed: u64) -> impl FnMut() -> f64 {
+        let mut state = seed;
+        move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+}
