@@ -235,3 +235,21 @@ def test_run_refuses_a_model_or_recording_it_cannot_load(tmp_path, capsys):
     ):
         assert main(["run", *args, "--out", str(tmp_path / "out")]) == 2
         assert message in capsys.readouterr().err
+
+
+def test_a_damaged_video_reports_the_frames_it_cannot_decode_and_goes_on(tmp_path):
+    # It used to stop at the first frame OpenCV could not decode, as if the video had ended.
+    pytest.importorskip("cv2")
+    from torsocast.sources import SkippedFrame, open_source
+
+    data = bytearray(shared_path("data", "video", "sports2d-demo.mp4").read_bytes())
+    middle = len(data) // 2
+    data[middle : middle + 20000] = np.random.default_rng(0).integers(0, 256, 20000, dtype=np.uint8).tobytes()
+    damaged = tmp_path / "damaged.mp4"
+    damaged.write_bytes(bytes(data))
+    frames = list(open_source(damaged))
+    skipped = [f for f in frames if isinstance(f, SkippedFrame)]
+    decoded = [f.index for f in frames if not isinstance(f, SkippedFrame)]
+    assert len(frames) == 230 and [f.index for f in frames] == list(range(230))
+    assert skipped and "cannot be decoded" in skipped[0].reason
+    assert max(decoded) > skipped[0].index  # frames after the damage still come

@@ -6,7 +6,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from pathlib import Path
 
-from .frame import Frame
+from .frame import Frame, SkippedFrame
 
 
 class VideoFile:
@@ -29,7 +29,10 @@ class VideoFile:
     def __len__(self) -> int:
         return max(self.frames, 0)
 
-    def __iter__(self) -> Iterator[Frame]:
+    def __iter__(self) -> Iterator[Frame | SkippedFrame]:
+        """Every frame; one that cannot be decoded (a damaged or truncated file) is a
+        :class:`SkippedFrame`, and reading goes on from the next frame where the container says
+        there are more (it seeks past the damage, so frames after it still come)."""
         import cv2
 
         capture = cv2.VideoCapture(str(self.path))
@@ -37,9 +40,15 @@ class VideoFile:
         try:
             while True:
                 ok, bgr = capture.read()
-                if not ok:
+                if ok:
+                    yield Frame(index, index / self.fps, cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB), None, None)
+                elif index < self.frames:
+                    yield SkippedFrame(
+                        index, index / self.fps, f"{self.path}: frame {index} cannot be decoded"
+                    )
+                    capture.set(cv2.CAP_PROP_POS_FRAMES, index + 1)
+                else:
                     break
-                yield Frame(index, index / self.fps, cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB), None, None)
                 index += 1
         finally:
             capture.release()
