@@ -5,6 +5,8 @@ import json
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from torsocast.cli import main
 
@@ -114,3 +116,49 @@ def test_forecast_reads_a_byte_order_mark_and_refuses_what_has_no_rows(tmp_path,
     for name, message in (("semi.csv", "has no rows of 6 or 7"), ("utf16.csv", "is not UTF-8 text")):
         assert main(["forecast", str(tmp_path / name)]) == 2
         assert message in capsys.readouterr().err
+
+
+@settings(max_examples=120, deadline=None, derandomize=True)
+@given(
+    rows=st.lists(
+        st.lists(
+            st.one_of(
+                st.floats(allow_nan=True, allow_infinity=True).map(repr),
+                st.text(alphabet=",;.-eE0123456789 nainf\t", max_size=12),
+            ),
+            max_size=8,
+        ),
+        max_size=12,
+    ),
+    separator=st.sampled_from([",", ";", "\t"]),
+    args=st.lists(
+        st.sampled_from(["--horizons", "0.4,1", "-1", "inf", "--method", "const", "--degree", "7"]),
+        max_size=4,
+    ),
+)
+def test_forecast_on_any_text_writes_json_or_says_one_line_and_exits_2(rows, separator, args):
+    # Never a traceback: exit 0 with strict JSON lines, or exit 2 (argparse: a usage error).
+    import contextlib
+    import io
+    import tempfile
+
+    text = "\n".join(separator.join(cells) for cells in rows)
+    with tempfile.TemporaryDirectory() as folder:
+        path = f"{folder}/track.csv"
+        with open(path, "w") as f:
+            f.write(text)
+        out, err = io.StringIO(), io.StringIO()
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            try:
+                code = main(["forecast", path, *args])
+            except SystemExit as e:  # argparse refusing an option
+                code = e.code
+    assert code in (0, 2), err.getvalue()
+
+    def refuse(token):
+        raise ValueError(f"{token} is not JSON")
+
+    for line in out.getvalue().splitlines():
+        json.loads(line, parse_constant=refuse)  # strict JSON: no NaN or Infinity tokens
+    if code == 2:
+        assert err.getvalue().strip()
