@@ -197,3 +197,59 @@ def test_a_negative_count_is_a_typed_error_naming_the_argument(make, name):
     # pyo3's own conversion raised an OverflowError that named nothing.
     with pytest.raises(tc.InvalidArgumentError, match=f"`{name}` = -"):
         make()
+
+
+class _FixedModel:
+    """A 'keypoint model' that returns whatever detections the test gives it."""
+
+    family, input_size, faces_on_backs = "fixed", 0, False
+
+    def __init__(self):
+        self.next = None
+
+    def __call__(self, image):
+        return self.next
+
+
+@SETTINGS
+@given(
+    keypoints=st.lists(
+        st.lists(st.tuples(ANY_FLOAT, ANY_FLOAT, ANY_FLOAT), min_size=17, max_size=17), max_size=3
+    ),
+    t=ANY_FLOAT,
+    depth_value=st.floats(0.0, 12.0) | ANY_FLOAT,
+    colour_only=st.booleans(),
+)
+def test_a_pipeline_frame_is_taken_or_refused_as_a_bad_frame_with_nothing_changed(
+    keypoints, t, depth_value, colour_only
+):
+    from torsocast.camera import Camera, Intrinsics
+    from torsocast.keypoints import Detections
+    from torsocast.pipeline import BadFrameError, Pipeline
+    from torsocast.sources import Frame
+
+    model = _FixedModel()
+    pipeline = Pipeline(model)
+    camera = Camera(Intrinsics(60.0, 60.0, 32.0, 24.0))
+    colour = np.zeros((48, 64, 3), np.uint8)
+    good = np.full((1, 17, 3), [30.0, 20.0, 0.9])
+    model.next = Detections(good, np.zeros((1, 4)), np.ones(1))
+    for k in range(5):
+        pipeline(Frame(k, k / 25, colour, np.full((48, 64), 2.0, np.float32), camera))
+    before = (pipeline.last_time, pipeline.frames, _tracker_state(pipeline.tracker))
+    kp = np.array(keypoints, dtype=float).reshape(-1, 17, 3)
+    model.next = Detections(kp, np.zeros((len(kp), 4)), np.ones(len(kp)))
+    with np.errstate(over="ignore"):
+        depth = None if colour_only else np.full((48, 64), depth_value, np.float32)
+    frame = Frame(5, t, colour, depth, None if colour_only else camera)
+    try:
+        result = pipeline(frame)
+    except (BadFrameError, tc.TimeNotIncreasingError):
+        assert (pipeline.last_time, pipeline.frames, _tracker_state(pipeline.tracker)) == before
+        return
+    assert pipeline.last_time == t and len(result.detections) == len(kp)
+    for ahead in result.forecasts.values():
+        assert np.isfinite(ahead).all()
+    if result.joints is not None:
+        seen = np.isfinite(result.joints).all(axis=-1)
+        assert (seen | np.isnan(result.joints).all(axis=-1)).all()

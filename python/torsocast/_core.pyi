@@ -419,6 +419,9 @@ class Tracker:
     def restart(self) -> None:
         """Drops every track and forgets the last frame's time, as for a new stream; ids go on
         counting."""
+    def __copy__(self) -> Tracker:
+        """A copy with every track's state."""
+    def __deepcopy__(self, memo: object) -> Tracker: ...
     def __len__(self) -> int:
         """Live tracks, tentative ones included."""
 

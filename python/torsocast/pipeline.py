@@ -3,6 +3,7 @@ for the rest (depth lifting, tracking, one forecaster per person), with the time
 
 from __future__ import annotations
 
+import copy
 import time
 from collections import defaultdict
 from collections.abc import Callable, Sequence
@@ -59,7 +60,7 @@ class Pipeline:
     """Seconds a frame's time stamp may lie before the previous frame's and still be refused as
     out of order; a frame further back starts the stream again (every track dropped, ids go on
     counting): a recording replayed from its start, or the frames after one stamped far ahead,
-    which would otherwise all be refused."""
+    which would otherwise all be refused. A frame the tracker then refuses undoes the restart."""
 
     def __post_init__(self) -> None:
         if any(not (np.isfinite(h) and h > 0) for h in self.horizons):
@@ -93,7 +94,9 @@ class Pipeline:
         clock = time.perf_counter()
         detections = self.model(frame.color)
         clock = self._lap("model", clock)
+        before_restart = None
         if restarted_from is not None:
+            before_restart = copy.copy(self.tracker)  # put back if the tracker refuses the frame
             self.tracker.restart()
         if frame.depth is None or frame.camera is None:
             # No 3D joints: the frame still passes the tracker (its time stamp, the model's
@@ -104,6 +107,7 @@ class Pipeline:
                 lambda: self.tracker.update(
                     frame.time, unseen, detections.keypoints[..., 2], [0.0, 0.0, 0.0]
                 ),
+                before_restart,
             )
             self.frames += 1
             return FrameResult(frame, detections, None, [], {}, restarted_from=restarted_from)
@@ -120,6 +124,7 @@ class Pipeline:
                 camera.camera_to_world,
                 list(self.horizons),
             ),
+            before_restart,
         )
         result = self._finish(frame, detections, joints, people, clock)
         result.restarted_from = restarted_from
@@ -130,12 +135,14 @@ class Pipeline:
         """Time of the last frame taken."""
         return self.tracker.last_time  # type: ignore[no-any-return]
 
-    @staticmethod
-    def _tracked(frame: Frame, call: Callable[[], T]) -> T:
-        """``call``'s result; a frame the tracker refuses (it changed nothing) is a bad frame."""
+    def _tracked(self, frame: Frame, call: Callable[[], T], before_restart: Tracker | None) -> T:
+        """``call``'s result; a frame the tracker refuses (it changed nothing) is a bad frame, and
+        a restart for it is undone."""
         try:
             return call()
         except TorsocastError as e:
+            if before_restart is not None:
+                self.tracker = before_restart
             raise BadFrameError(f"frame {frame.index}: the tracker refused it: {e}") from e
 
     def track(self, frame: Frame, detections: Detections, joints: F64, clock: float) -> FrameResult:

@@ -331,6 +331,21 @@ impl Tracker {
         }
     }
 
+    /// A copy with every track's state (`copy.copy` and `copy.deepcopy` give it).
+    fn __copy__(&self) -> Self {
+        Self {
+            inner: self.inner.clone(),
+            rows: Vec::new(),
+            scores: Vec::new(),
+            outcomes: Vec::new(),
+            poses: Vec::new(),
+        }
+    }
+
+    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Self {
+        self.__copy__()
+    }
+
     /// restart(): drops every track and forgets the last frame's time, as for a new stream; ids
     /// go on counting.
     fn restart(&mut self) {
