@@ -2,7 +2,7 @@
 
 Two layouts are recognised:
 
-* **Per-frame camera XML** (as ``../shared/data/rgbd/turntable``): ``NNNN.jpg`` (or ``.png``),
+* **Per-frame camera XML** (as the project's turntable recording): ``NNNN.jpg`` (or ``.png``),
   ``NNNN_depth.png`` (16-bit, millimetres, registered to colour) and ``NNNN_camera.xml`` (OpenCV
   FileStorage with ``intrinsic`` and, optionally, a ground-truth ``R`` and ``t``, kept in
   ``frame.extra``). The layout has no time stamps: frames are ``1 / fps`` apart.

@@ -22,7 +22,7 @@ from ... import wrap_angle
 from ...keypoints import KeypointModel, open_model
 from ...sources import open_source
 from ...synthetic.scenes import RenderedScene
-from .plan import Catalogue, Size, draw_scene
+from .plan import CMU_ENV, H36M_ENV, Catalogue, Size, data_folder, draw_scene
 from .score import assign, view_angle
 
 F64 = npt.NDArray[np.float64]
@@ -108,11 +108,11 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--turntable", help="the turntable RGB-D folder")
     parser.add_argument("--yolo", help="also measure this YOLO-pose model")
-    parser.add_argument("--cmu", default="../shared/data/cmu")
-    parser.add_argument("--h36m", default="../shared/data/h36m")
+    parser.add_argument("--cmu", help=f"CMU mocap folder (default: ${CMU_ENV})")
+    parser.add_argument("--h36m", help=f"Human3.6M folder (default: ${H36M_ENV})")
     parser.add_argument("--scenes", type=int, default=12)
     args = parser.parse_args(argv)
-    catalogue = Catalogue.find("dev", Path(args.cmu), Path(args.h36m))
+    catalogue = Catalogue.find("dev", data_folder(args.cmu, CMU_ENV), data_folder(args.h36m, H36M_ENV))
     models = [("MoveNet (bundled)", None)] + ([(Path(args.yolo).stem, args.yolo)] if args.yolo else [])
     for name, path in models:
         print(markdown(name, measure(open_model(path), args.turntable, catalogue, scenes=args.scenes)) + "\n")
