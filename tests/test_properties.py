@@ -253,3 +253,54 @@ def test_a_pipeline_frame_is_taken_or_refused_as_a_bad_frame_with_nothing_change
     if result.joints is not None:
         seen = np.isfinite(result.joints).all(axis=-1)
         assert (seen | np.isnan(result.joints).all(axis=-1)).all()
+
+
+def _camera_xml(values: str) -> str:
+    return (
+        '<?xml version="1.0"?>\n<opencv_storage>\n<intrinsic type_id="opencv-matrix">\n'
+        f"<rows>3</rows><cols>3</cols><dt>f</dt><data>{values}</data></intrinsic>\n</opencv_storage>\n"
+    )
+
+
+@SETTINGS
+@given(
+    which=st.sampled_from(["colour", "depth", "camera"]),
+    content=st.one_of(
+        st.binary(max_size=64),
+        st.integers(0, 200).map(lambda n: ("truncate", n)),
+        st.lists(ANY_FLOAT.map(repr) | st.text(max_size=4), max_size=12).map(lambda v: ("xml", " ".join(v))),
+    ),
+)
+def test_a_folder_source_gives_each_frame_or_says_why_not(tmp_path_factory, which, content):
+    # Any damage to one frame's files: that frame is a SkippedFrame with a reason, the others
+    # come as they are; never an exception out of the source.
+    import io
+
+    from PIL import Image
+
+    from torsocast.sources import Frame, SkippedFrame, open_source
+
+    root = tmp_path_factory.mktemp("frames")
+    colour, depth = io.BytesIO(), io.BytesIO()
+    Image.fromarray(np.zeros((24, 32, 3), np.uint8)).save(colour, format="PNG")
+    Image.fromarray(np.full((24, 32), 2000, np.uint16)).save(depth, format="PNG")
+    files = {
+        "colour": ("{}.png", colour.getvalue()),
+        "depth": ("{}_depth.png", depth.getvalue()),
+        "camera": ("{}_camera.xml", _camera_xml("50. 0. 16. 0. 50. 12. 0. 0. 1.").encode()),
+    }
+    for stem in ("0000", "0001"):
+        for kind, (pattern, data) in files.items():
+            if stem == "0001" and kind == which:
+                if isinstance(content, bytes):
+                    data = content
+                elif content[0] == "truncate":
+                    data = data[: content[1]]
+                else:
+                    data = _camera_xml(content[1]).encode()
+            (root / pattern.format(stem)).write_bytes(data)
+    frames = list(open_source(root))
+    assert len(frames) == 2 and isinstance(frames[0], Frame)
+    assert isinstance(frames[1], (Frame, SkippedFrame))
+    if isinstance(frames[1], SkippedFrame):
+        assert frames[1].index == 1 and frames[1].reason
