@@ -11,6 +11,34 @@ use torso_core::depth::DepthImage;
 use torso_core::sides::FacingConfig;
 use torso_core::GateConfig;
 
+/// The `#[pymethods]` of a frozen configuration class: its own `methods`, and `replace`,
+/// `__repr__` and `__getnewargs_ex__` built from its `fields()`.
+macro_rules! frozen_config {
+    ($class:ident, { $($methods:tt)* }) => {
+        #[pymethods]
+        impl $class {
+            $($methods)*
+
+            /// A copy with the given fields changed (as `dataclasses.replace`).
+            #[pyo3(signature = (**changes))]
+            fn replace<'py>(
+                slf: &Bound<'py, Self>,
+                changes: Option<&Bound<'py, PyDict>>,
+            ) -> PyResult<Bound<'py, PyAny>> {
+                replaced(slf.as_any(), slf.get().fields(slf.py())?, changes)
+            }
+
+            fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+                repr(stringify!($class), self.fields(py)?)
+            }
+
+            fn __getnewargs_ex__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+                newargs(py, self.fields(py)?)
+            }
+        }
+    };
+}
+
 pub type Fields<'py> = Vec<(&'static str, Bound<'py, PyAny>)>;
 
 /// `Name(field=value, ...)` from the class's fields.
@@ -126,8 +154,7 @@ impl PersonConfig {
     }
 }
 
-#[pymethods]
-impl PersonConfig {
+frozen_config!(PersonConfig, {
     #[new]
     #[pyo3(signature = (
         forecaster=None, *, gate_threshold=None, gate_max_replacements=None, min_score=None,
@@ -216,24 +243,7 @@ impl PersonConfig {
     fn occlusion_ratio(&self) -> f64 {
         self.inner.occlusion_ratio
     }
-
-    /// A copy with the given fields changed (as `dataclasses.replace`).
-    #[pyo3(signature = (**changes))]
-    fn replace<'py>(
-        slf: &Bound<'py, Self>,
-        changes: Option<&Bound<'py, PyDict>>,
-    ) -> PyResult<Bound<'py, PyAny>> {
-        replaced(slf.as_any(), slf.get().fields(slf.py())?, changes)
-    }
-
-    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
-        repr("PersonConfig", self.fields(py)?)
-    }
-
-    fn __getnewargs_ex__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
-        newargs(py, self.fields(py)?)
-    }
-}
+});
 
 /// DepthLookup(*, radius, band, min_valid, min_depth, max_depth): how a keypoint's depth is read
 /// from the depth image (`torso_core::depth::DepthLookup`): the median of the valid readings in
@@ -259,8 +269,7 @@ impl DepthLookup {
     }
 }
 
-#[pymethods]
-impl DepthLookup {
+frozen_config!(DepthLookup, {
     #[new]
     #[pyo3(signature = (*, radius=None, band=None, min_valid=None, min_depth=None, max_depth=None))]
     fn new(
@@ -322,23 +331,7 @@ impl DepthLookup {
         let array = numpy::PyArray1::from_vec(py, out);
         array.reshape(shape[..shape.len() - 1].to_vec())
     }
-
-    #[pyo3(signature = (**changes))]
-    fn replace<'py>(
-        slf: &Bound<'py, Self>,
-        changes: Option<&Bound<'py, PyDict>>,
-    ) -> PyResult<Bound<'py, PyAny>> {
-        replaced(slf.as_any(), slf.get().fields(slf.py())?, changes)
-    }
-
-    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
-        repr("DepthLookup", self.fields(py)?)
-    }
-
-    fn __getnewargs_ex__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
-        newargs(py, self.fields(py)?)
-    }
-}
+});
 
 /// TrackerConfig(*, gate, min_hits, max_missing, capacity, max_detections, person, depth):
 /// association, birth and drop rules (`torso_core::tracker::TrackerConfig`), with each track's
@@ -373,8 +366,7 @@ impl TrackerConfig {
     }
 }
 
-#[pymethods]
-impl TrackerConfig {
+frozen_config!(TrackerConfig, {
     #[new]
     #[pyo3(signature = (
         *, gate=None, min_hits=None, max_missing=None, capacity=None, max_detections=None,
@@ -439,20 +431,4 @@ impl TrackerConfig {
             inner: self.inner.depth,
         }
     }
-
-    #[pyo3(signature = (**changes))]
-    fn replace<'py>(
-        slf: &Bound<'py, Self>,
-        changes: Option<&Bound<'py, PyDict>>,
-    ) -> PyResult<Bound<'py, PyAny>> {
-        replaced(slf.as_any(), slf.get().fields(slf.py())?, changes)
-    }
-
-    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
-        repr("TrackerConfig", self.fields(py)?)
-    }
-
-    fn __getnewargs_ex__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
-        newargs(py, self.fields(py)?)
-    }
-}
+});
