@@ -91,6 +91,7 @@ def test_a_negative_spline_degree_is_an_argument_error():
     [
         (["--horizons", "-1"], "--horizons: expected seconds > 0"),
         (["--horizons", "0.4,inf"], "--horizons: expected seconds > 0"),
+        (["--horizons", "7200"], "and <= 3600"),  # the core's MAX_HORIZON: a polynomial runs away
         (["--out", "FILE"], "--out: cannot use"),
     ],
 )

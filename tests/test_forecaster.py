@@ -206,3 +206,17 @@ def test_forecast_batch_reads_any_memory_layout_as_its_shape_says():
         tc.forecast_batch(histories[:, ::2][:, :25], [0.4]),
         tc.forecast_batch(np.ascontiguousarray(histories[:, ::2][:, :25]), [0.4]),
     )
+
+
+def test_a_horizon_beyond_an_hour_is_refused_not_carried_to_infinity():
+    # The fuzz harness found a forecast at 1e308 s giving NaN (infinity times a zero weight).
+    person = tc.Person()
+    f = tc.Forecaster()
+    for k in range(30):
+        f.update([0.04 * k, 0.0, 1.0, 0.0, 1.5], k / 25)
+    assert np.isfinite(f.forecast([tc.MAX_HORIZON])).all()
+    for horizons in ([tc.MAX_HORIZON * 2], [1e308]):
+        with pytest.raises(tc.InvalidArgumentError, match="horizons"):
+            f.forecast(horizons)
+        with pytest.raises(tc.InvalidArgumentError, match="horizons"):
+            person.intervals(horizons)

@@ -362,3 +362,21 @@ def test_trackers_stepped_in_threads_give_the_serial_results():
             for (_, fa), (_, fb) in zip(pa, pb):
                 assert (fa is None and fb is None) or np.array_equal(fa, fb)
     assert any(f is not None for _, people in serial[0] for _, f in people)
+
+
+def test_a_joint_too_far_to_be_a_body_is_missing_not_a_pose_the_forecaster_refuses():
+    # The fuzz harness found a joint at 1e308 m making a pose the forecaster refused after the
+    # track had taken the frame: the refused frame had changed the track.
+    tracker = Tracker(TrackerConfig(min_hits=1))
+    joints, scores = person([2.0, 0.0, 1.0], np.pi)
+    for k in range(10):
+        tracker.update(k / 25, joints[None], scores[None], CAMERA)
+    far = joints.copy()
+    far[coco.LEFT_HIP] = [1e308, 0.0, 1.0]
+    out = tracker.update(0.4, far[None], scores[None], CAMERA)
+    assert out[0].observation.estimate == "plane" and np.isfinite(out[0].observation.pose).all()
+    # The far joint was missing: the gate held its last position over instead of measuring it.
+    assert out[0].observation.joint_status[coco.LEFT_HIP] == tc.JointStatus.REPLACED
+    with pytest.raises(tc.InvalidArgumentError, match="camera_position"):
+        tracker.update(0.44, joints[None], scores[None], [1e308, 0.0, 0.0])
+    assert tracker.last_time == 0.4

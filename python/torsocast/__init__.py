@@ -11,6 +11,7 @@ from enum import IntEnum
 
 from ._core import (
     MAX_DEGREE,
+    MAX_HORIZON,
     AmbiguousOrientationError,
     CollinearJointsError,
     DepthLookup,
@@ -77,6 +78,7 @@ def wrap_angle(angle):  # type: ignore[no-untyped-def]
 __all__ = [
     "COMPONENTS",
     "MAX_DEGREE",
+    "MAX_HORIZON",
     "AmbiguousOrientationError",
     "CollinearJointsError",
     "DepthLookup",

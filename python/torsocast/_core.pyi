@@ -18,6 +18,7 @@ __all__ = [
     "LowPass",
     "JOINT_STATUS",
     "MAX_DEGREE",
+    "MAX_HORIZON",
     "MIN_ORIENTATION_COSINE",
     "PLANE_STATUS",
     "NonFiniteError",
@@ -49,6 +50,7 @@ __all__ = [
 __version__: str
 MAX_DEGREE: int
 MIN_ORIENTATION_COSINE: float
+MAX_HORIZON: float
 PLANE_STATUS: dict[str, int]
 JOINT_STATUS: dict[str, int]
 

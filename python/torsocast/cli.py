@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from . import COMPONENTS, MAX_DEGREE, Forecaster, ForecasterConfig, TorsocastError, __version__, wrap_angle
+from ._core import MAX_HORIZON
 
 
 def _bench(args: argparse.Namespace) -> int:
@@ -210,16 +211,16 @@ def _can_draw() -> bool:
 
 
 def _horizons(text: str, positive: bool = True) -> list[float] | None:
-    """The ``--horizons`` list, or None after saying what is wrong with it: seconds, finite,
-    above 0 (``positive``) or at least 0."""
+    """The ``--horizons`` list, or None after saying what is wrong with it: seconds above 0
+    (``positive``) or at least 0, up to the core's ``MAX_HORIZON``."""
     try:
         horizons = [float(h) for h in text.split(",") if h]
     except ValueError:
         print(f"--horizons: expected comma-separated seconds, got {text!r}", file=sys.stderr)
         return None
-    if any(not (np.isfinite(h) and (h > 0 if positive else h >= 0)) for h in horizons):
+    if any(not ((h > 0 if positive else h >= 0) and h <= MAX_HORIZON) for h in horizons):
         bound = "> 0" if positive else ">= 0"
-        print(f"--horizons: expected seconds {bound}, got {text!r}", file=sys.stderr)
+        print(f"--horizons: expected seconds {bound} and <= {MAX_HORIZON:g}, got {text!r}", file=sys.stderr)
         return None
     return horizons
 

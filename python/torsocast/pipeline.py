@@ -12,7 +12,7 @@ from typing import TypeVar
 
 import numpy as np
 
-from ._core import TimeNotIncreasingError, TorsocastError
+from ._core import MAX_HORIZON, TimeNotIncreasingError, TorsocastError
 from .keypoints import Detections, KeypointModel
 from .sources import Frame
 from .tracker import F64, Tracker, TrackerConfig, TrackOutcome
@@ -63,8 +63,8 @@ class Pipeline:
     which would otherwise all be refused. A frame the tracker then refuses undoes the restart."""
 
     def __post_init__(self) -> None:
-        if any(not (np.isfinite(h) and h > 0) for h in self.horizons):
-            raise ValueError(f"horizons must be positive seconds, got {list(self.horizons)}")
+        if any(not (0 < h <= MAX_HORIZON) for h in self.horizons):
+            raise ValueError(f"horizons must be seconds in (0, {MAX_HORIZON:g}], got {list(self.horizons)}")
         if getattr(self.model, "faces_on_backs", False):
             # The nose is no evidence of the chest's side for a model that sees faces on backs.
             person = self.tracker_config.person.replace(face_weight=0.0)

@@ -316,12 +316,7 @@ impl LowPass {
 
     /// Filters one sample. A non-finite sample is rejected and leaves the state untouched.
     pub fn step(&mut self, x: f64) -> Result<f64> {
-        if !x.is_finite() {
-            return Err(Error::NonFinite {
-                name: "x",
-                index: 0,
-            });
-        }
+        check_finite(&[x])?;
         if !self.started {
             self.filter.start_at(x, &mut self.state);
             self.started = true;
@@ -409,9 +404,19 @@ impl ZeroPhase {
     }
 }
 
-/// Refuses a window with a NaN or infinite sample, naming the first.
+/// Largest sample magnitude the filters take: the cascade's gains and the zero-phase filter's
+/// odd extension amplify a sample by a small factor, and this leaves a factor of 1e8 before a
+/// sample could overflow to infinity.
+pub const MAX_SAMPLE: f64 = 1e300;
+
+/// Refuses a window with a NaN, infinite or overflowing sample, naming the first.
 fn check_finite(x: &[f64]) -> Result<()> {
-    match x.iter().position(|v| !v.is_finite()) {
+    match x.iter().position(|v| !(v.abs() <= MAX_SAMPLE)) {
+        Some(index) if x[index].is_finite() => Err(Error::InvalidArgument {
+            name: "x",
+            expected: "samples within ±MAX_SAMPLE (1e300)",
+            value: x[index],
+        }),
         Some(index) => Err(Error::NonFinite { name: "x", index }),
         None => Ok(()),
     }

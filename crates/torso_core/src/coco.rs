@@ -2,6 +2,7 @@
 //! far as the per-person chain needs it: the torso joints with their sides, the face, and the
 //! left/right pairs a detector exchanges when it sees a back.
 
+use crate::history::MAX_POSE_VALUE;
 use crate::plane::Side;
 
 /// Keypoints per person.
@@ -34,6 +35,30 @@ pub const LEFT_RIGHT_PAIRS: [(usize, usize); 8] = [
     (13, 14),
     (15, 16),
 ];
+
+/// Whether a joint can be used: finite and within ±[`MAX_POSE_VALUE`] m of the origin (larger
+/// coordinates are no body a camera sees, and overflow the plane fit and the forecaster).
+/// The one rule for every stage that reads joints; a joint that fails it is missing.
+pub fn usable(joint: &[f64; 3]) -> bool {
+    joint.iter().all(|v| v.abs() <= MAX_POSE_VALUE)
+}
+
+/// Checks where the camera is: finite and within ±[`MAX_POSE_VALUE`] m, as every call that takes
+/// it does before changing anything.
+pub fn check_camera_position(position: [f64; 3]) -> crate::error::Result<()> {
+    match position.iter().position(|v| !(v.abs() <= MAX_POSE_VALUE)) {
+        None => Ok(()),
+        Some(index) if !position[index].is_finite() => Err(crate::error::Error::NonFinite {
+            name: "camera_position",
+            index,
+        }),
+        Some(index) => Err(crate::error::Error::InvalidArgument {
+            name: "camera_position",
+            expected: "coordinates within ±MAX_POSE_VALUE (1e6) m",
+            value: position[index],
+        }),
+    }
+}
 
 /// `values` with every left/right pair exchanged.
 pub fn swap_sides<T: Copy>(values: &mut [T; N_JOINTS]) {

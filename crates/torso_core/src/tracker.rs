@@ -397,12 +397,7 @@ impl Tracker {
         camera_position: [f64; 3],
     ) -> Result<()> {
         self.check_time(t)?;
-        if let Some(index) = camera_position.iter().position(|v| !v.is_finite()) {
-            return Err(Error::NonFinite {
-                name: "camera_position",
-                index,
-            });
-        }
+        crate::coco::check_camera_position(camera_position)?;
         if scores.len() > self.config.max_detections {
             return Err(Error::InvalidArgument {
                 name: "detections",
@@ -558,7 +553,7 @@ pub fn detection_centre(
     scores: &[f64; N_JOINTS],
     config: &PersonConfig,
 ) -> [f64; 3] {
-    let seen = |j: usize| config.sees(scores[j]) && joints[j].iter().all(|v| v.is_finite());
+    let seen = |j: usize| config.sees(scores[j]) && crate::coco::usable(&joints[j]);
     let torso_seen = TORSO.iter().any(|&j| seen(j));
     let mut total = [0.0; 3];
     let mut n = 0usize;

@@ -42,6 +42,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<tracker::TrackState>()?;
     m.add("MAX_DEGREE", torso_core::bspline::MAX_DEGREE)?;
     m.add("MIN_ORIENTATION_COSINE", torso_core::MIN_ORIENTATION_COSINE)?;
+    m.add("MAX_HORIZON", torso_core::forecaster::MAX_HORIZON)?;
     // The status codes' names, from the core (the Python enums are compared with these).
     let codes = |names: &[(&str, u8)]| -> PyResult<Bound<'_, pyo3::types::PyDict>> {
         let dict = pyo3::types::PyDict::new(m.py());

@@ -33,13 +33,20 @@ pub const MIN_RELATIVE_WEIGHT: f64 = 1e-9;
 /// Derivatives `d_ck` per component, in seconds.
 type Derivatives = [[f64; MAX_DEGREE + 1]; 5];
 
-/// Refuses a horizon that is not a finite, non-negative number of seconds: the rule of every
-/// forecast.
+/// Longest horizon (s) a forecast takes: an hour. Far longer ones would carry a fitted polynomial
+/// to infinity.
+pub const MAX_HORIZON: f64 = 3600.0;
+
+/// Refuses a horizon that is not a number of seconds from 0 to [`MAX_HORIZON`]: the rule of
+/// every forecast.
 pub fn check_horizons(horizons: &[f64]) -> Result<()> {
-    match horizons.iter().find(|h| !(h.is_finite() && **h >= 0.0)) {
+    match horizons
+        .iter()
+        .find(|h| !(**h >= 0.0 && **h <= MAX_HORIZON))
+    {
         Some(&value) => Err(Error::InvalidArgument {
             name: "horizons",
-            expected: "finite, non-negative horizons in seconds",
+            expected: "horizons from 0 to MAX_HORIZON (3600) seconds",
             value,
         }),
         None => Ok(()),

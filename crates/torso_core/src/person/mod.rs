@@ -148,12 +148,7 @@ impl Person {
                 index: 0,
             });
         }
-        if let Some(index) = camera_position.iter().position(|v| !v.is_finite()) {
-            return Err(Error::NonFinite {
-                name: "camera_position",
-                index,
-            });
-        }
+        coco::check_camera_position(camera_position)?;
         if let Some(previous) = self.last_t.filter(|&p| !(t > p)) {
             return Err(Error::TimeNotIncreasing { previous, got: t });
         }
@@ -175,7 +170,7 @@ impl Person {
         // A NaN or infinite score makes its keypoint missing, so that no later step (the
         // forecaster's weight) can fail after the track's state has changed.
         for (x, s) in joints.iter_mut().zip(scores.iter_mut()) {
-            if !(self.config.sees(*s) && finite(x)) {
+            if !(self.config.sees(*s) && coco::usable(x)) {
                 *x = [f64::NAN; 3];
             }
             if !s.is_finite() {
