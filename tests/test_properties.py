@@ -304,3 +304,49 @@ def test_a_folder_source_gives_each_frame_or_says_why_not(tmp_path_factory, whic
     assert isinstance(frames[1], (Frame, SkippedFrame))
     if isinstance(frames[1], SkippedFrame):
         assert frames[1].index == 1 and frames[1].reason
+
+
+@pytest.mark.parametrize(
+    ("call", "name"),
+    [
+        (lambda: tc.Person().update(0.0, np.zeros(3), np.zeros(17), np.zeros(3)), "joints"),
+        (lambda: tc.Person().update(0.0, np.zeros((17, 3)), np.zeros((17, 1)), np.zeros(3)), "scores"),
+        (lambda: tc.fit_plane(np.zeros(3), "LRLR"), "joints"),
+        (lambda: tc.fit_planes(np.zeros((4, 3)), "LRLR"), "joints"),
+        (lambda: tc.forecast_batch(np.zeros((3, 5)), [1.0]), "histories"),
+        (lambda: tc.linear_assignment(np.zeros(3)), "cost"),
+        (lambda: tc.lowpass_causal(np.zeros((3, 2))), "x"),
+        (lambda: tc.fit_smoothing_spline(np.zeros((3, 2)), np.zeros(3)), "x"),
+        (lambda: tc.JointGate(3).update(np.zeros(3)), "joints"),
+        (lambda: tc.LowPass().filter(np.zeros((2, 2))), "x"),
+        (lambda: tc.Tracker().update(0.0, np.zeros((17, 3)), np.zeros(17), np.zeros(3)), "joints"),
+    ],
+)
+def test_an_array_with_the_wrong_number_of_dimensions_is_a_shape_error_naming_it(call, name):
+    # It was a TypeError 'dimensionality mismatch: from=1, to=2' that named nothing.
+    with pytest.raises(tc.ShapeError, match=f"`{name}` has shape"):
+        call()
+
+
+def test_batch_calls_in_threads_give_the_serial_results():
+    # forecast_batch and fit_planes release the GIL while the core works.
+    from concurrent.futures import ThreadPoolExecutor
+
+    from torsocast.bench import walking_windows
+
+    rng = np.random.default_rng(5)
+    windows = [walking_windows(300, seed=s) for s in range(4)]
+    frames = [
+        rng.normal(0, 0.2, (500, 4, 3)) + [[[0, 0.2, 1.4], [0, -0.2, 1.4], [0, 0.1, 0.9], [0, -0.1, 0.9]]]
+        for _ in range(4)
+    ]
+
+    def work(k):
+        return tc.forecast_batch(windows[k], [0.4, 1.0]), tc.fit_planes(frames[k], "LRLR")["azimuth"]
+
+    serial = [work(k) for k in range(4)]
+    with ThreadPoolExecutor(4) as pool:
+        parallel = list(pool.map(work, range(4)))
+    for (fa, pa), (fb, pb) in zip(serial, parallel):
+        np.testing.assert_array_equal(fa, fb)
+        np.testing.assert_array_equal(pa, pb)

@@ -31,6 +31,17 @@ pub fn points(flat: &[f64]) -> Vec<[f64; 3]> {
     flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
 }
 
+/// Checks the number of dimensions of an argument's shape; arguments arrive with any number, so
+/// that a wrong one is a `ShapeError` naming the argument (a fixed-dimension extraction raises
+/// a `TypeError` that names none).
+pub fn expect_ndim(name: &str, shape: &[usize], ndim: usize, expected: &str) -> PyResult<()> {
+    if shape.len() == ndim {
+        Ok(())
+    } else {
+        Err(shape_error(name, expected, shape))
+    }
+}
+
 /// Checks the trailing dimension of an array shape.
 pub fn expect_last(name: &str, shape: &[usize], last: usize, expected: &str) -> PyResult<()> {
     if shape.last() == Some(&last) {

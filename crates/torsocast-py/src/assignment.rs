@@ -2,7 +2,7 @@
 
 use crate::arrays::{c_order, ArrayPair};
 use crate::errors::{shape_error, to_py};
-use numpy::{AllowTypeChange, PyArray1, PyArrayLike2, PyUntypedArrayMethods};
+use numpy::{AllowTypeChange, PyArray1, PyArrayLikeDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
 /// linear_assignment(cost (n, m)) -> (rows, cols): the pairs that minimise the summed cost, every
@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 #[pyfunction]
 pub fn linear_assignment<'py>(
     py: Python<'py>,
-    cost: PyArrayLike2<'py, f64, AllowTypeChange>,
+    cost: PyArrayLikeDyn<'py, f64, AllowTypeChange>,
 ) -> ArrayPair<'py, PyArray1<usize>, PyArray1<usize>> {
     let shape = cost.shape().to_vec();
     if shape.len() != 2 {

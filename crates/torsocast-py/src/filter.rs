@@ -1,8 +1,8 @@
 //! Butterworth design and filtering.
 
-use crate::arrays::{contiguous, matrix, vector};
+use crate::arrays::{contiguous, expect_ndim, matrix, vector};
 use crate::errors::{count, count_or, to_py};
-use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLike1};
+use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLikeDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use torso_core::{design_lowpass, SosFilter, ZeroPhase};
 
@@ -20,18 +20,19 @@ pub fn butter_lowpass(
 
 /// The designed filter and the finite-checked signal, shared by the window filters.
 fn design_and_signal(
-    x: PyArrayLike1<'_, f64, AllowTypeChange>,
+    x: PyArrayLikeDyn<'_, f64, AllowTypeChange>,
     order: Option<i64>,
     cutoff_hz: Option<f64>,
     rate_hz: Option<f64>,
 ) -> PyResult<(SosFilter, Vec<f64>)> {
     let (order, cutoff_hz, rate_hz) = thesis_filter(order, cutoff_hz, rate_hz)?;
     let f = design_lowpass(order, cutoff_hz, rate_hz).map_err(to_py)?;
-    Ok((f, signal(x)))
+    Ok((f, signal(x)?))
 }
 
-fn signal(x: PyArrayLike1<'_, f64, AllowTypeChange>) -> Vec<f64> {
-    contiguous(x.as_array())
+fn signal(x: PyArrayLikeDyn<'_, f64, AllowTypeChange>) -> PyResult<Vec<f64>> {
+    expect_ndim("x", x.shape(), 1, "(samples,)")?;
+    Ok(contiguous(x.as_array()))
 }
 
 /// The thesis' filter as the core's defaults give it: order, cut-off (Hz), grid rate (Hz).
@@ -54,7 +55,7 @@ fn thesis_filter(
 #[pyo3(signature = (x, order=None, cutoff_hz=None, rate_hz=None))]
 pub fn lowpass_causal<'py>(
     py: Python<'py>,
-    x: PyArrayLike1<'py, f64, AllowTypeChange>,
+    x: PyArrayLikeDyn<'py, f64, AllowTypeChange>,
     order: Option<i64>,
     cutoff_hz: Option<f64>,
     rate_hz: Option<f64>,
@@ -70,7 +71,7 @@ pub fn lowpass_causal<'py>(
 #[pyo3(signature = (x, order=None, cutoff_hz=None, rate_hz=None))]
 pub fn lowpass_zero_phase<'py>(
     py: Python<'py>,
-    x: PyArrayLike1<'py, f64, AllowTypeChange>,
+    x: PyArrayLikeDyn<'py, f64, AllowTypeChange>,
     order: Option<i64>,
     cutoff_hz: Option<f64>,
     rate_hz: Option<f64>,
@@ -111,9 +112,9 @@ impl LowPass {
     fn filter<'py>(
         &mut self,
         py: Python<'py>,
-        x: PyArrayLike1<'py, f64, AllowTypeChange>,
+        x: PyArrayLikeDyn<'py, f64, AllowTypeChange>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let mut y = signal(x);
+        let mut y = signal(x)?;
         self.inner.filter_window(&mut y).map_err(to_py)?;
         Ok(vector(py, &y))
     }

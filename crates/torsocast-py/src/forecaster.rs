@@ -3,7 +3,7 @@
 use crate::arrays::{c_order, matrix, ArrayPair};
 use crate::errors::{count_or, shape_error, to_py, unknown_option, InvalidArgumentError};
 use numpy::{
-    AllowTypeChange, PyArray1, PyArray2, PyArray3, PyArrayLike3, PyArrayMethods,
+    AllowTypeChange, PyArray1, PyArray2, PyArray3, PyArrayLikeDyn, PyArrayMethods,
     PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
@@ -407,12 +407,12 @@ impl Forecaster {
 #[pyo3(signature = (histories, horizons, config=None))]
 pub fn forecast_batch<'py>(
     py: Python<'py>,
-    histories: PyArrayLike3<'py, f64, AllowTypeChange>,
+    histories: PyArrayLikeDyn<'py, f64, AllowTypeChange>,
     horizons: Vec<f64>,
     config: Option<PyRef<'py, ForecasterConfig>>,
 ) -> PyResult<Bound<'py, PyArray3<f64>>> {
     let shape = histories.shape().to_vec();
-    if shape[2] != 5 || shape[1] == 0 {
+    if shape.len() != 3 || shape[2] != 5 || shape[1] == 0 {
         return Err(shape_error("histories", "(n, T, 5) with T >= 1", &shape));
     }
     let view = histories.as_array();

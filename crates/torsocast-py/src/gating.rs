@@ -1,8 +1,8 @@
 //! Per-joint temporal gating.
 
-use crate::arrays::{contiguous, expect_last, matrix, points, ArrayPair};
+use crate::arrays::{contiguous, expect_last, expect_ndim, matrix, points, ArrayPair};
 use crate::errors::{count, count_or, to_py};
-use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLike2, PyUntypedArrayMethods};
+use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLikeDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use torso_core::{GateConfig, JointStatus};
 
@@ -50,8 +50,9 @@ impl JointGate {
     fn update<'py>(
         &mut self,
         py: Python<'py>,
-        joints: PyArrayLike2<'py, f64, AllowTypeChange>,
+        joints: PyArrayLikeDyn<'py, f64, AllowTypeChange>,
     ) -> ArrayPair<'py, PyArray2<f64>, PyArray1<u8>> {
+        expect_ndim("joints", joints.shape(), 2, "(n_joints, 3)")?;
         expect_last("joints", joints.shape(), 3, "(n_joints, 3)")?;
         let mut pts = points(&contiguous(joints.as_array()));
         self.inner

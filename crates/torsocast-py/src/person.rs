@@ -1,11 +1,9 @@
 //! One tracked person's per-frame chain, one call per person and frame.
 
-use crate::arrays::{contiguous, matrix};
+use crate::arrays::{contiguous, expect_ndim, matrix};
 use crate::config::PersonConfig;
 use crate::errors::{shape_error, to_py};
-use numpy::{
-    AllowTypeChange, PyArray1, PyArray2, PyArrayLike1, PyArrayLike2, PyUntypedArrayMethods,
-};
+use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLikeDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use torso_core::coco::{Joints, N_JOINTS};
@@ -69,13 +67,15 @@ impl Person {
     fn update(
         &mut self,
         t: f64,
-        joints: PyArrayLike2<'_, f64, AllowTypeChange>,
-        scores: PyArrayLike1<'_, f64, AllowTypeChange>,
-        camera_position: PyArrayLike1<'_, f64, AllowTypeChange>,
+        joints: PyArrayLikeDyn<'_, f64, AllowTypeChange>,
+        scores: PyArrayLikeDyn<'_, f64, AllowTypeChange>,
+        camera_position: PyArrayLikeDyn<'_, f64, AllowTypeChange>,
     ) -> PyResult<Observation> {
         if joints.shape() != [N_JOINTS, 3] {
             return Err(shape_error("joints", "(17, 3)", joints.shape()));
         }
+        expect_ndim("scores", scores.shape(), 1, "(17,)")?;
+        expect_ndim("camera_position", camera_position.shape(), 1, "(3,)")?;
         let flat = contiguous(joints.as_array());
         let joints: Joints =
             std::array::from_fn(|i| [flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]]);

@@ -1,10 +1,8 @@
 //! Torso plane and shoulder heading.
 
-use crate::arrays::{contiguous, expect_last, matrix, points, vector};
+use crate::arrays::{contiguous, expect_last, expect_ndim, matrix, points, vector};
 use crate::errors::{shape_error, to_py};
-use numpy::{
-    AllowTypeChange, PyArray1, PyArrayLike1, PyArrayLike2, PyArrayLike3, PyUntypedArrayMethods,
-};
+use numpy::{AllowTypeChange, PyArray1, PyArrayLikeDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use torso_core::{Error, Side};
@@ -46,11 +44,15 @@ impl TorsoPlane {
 #[pyo3(signature = (joints, sides, weights=None))]
 pub fn fit_plane(
     py: Python<'_>,
-    joints: PyArrayLike2<'_, f64, AllowTypeChange>,
+    joints: PyArrayLikeDyn<'_, f64, AllowTypeChange>,
     sides: &str,
-    weights: Option<PyArrayLike1<'_, f64, AllowTypeChange>>,
+    weights: Option<PyArrayLikeDyn<'_, f64, AllowTypeChange>>,
 ) -> PyResult<TorsoPlane> {
+    expect_ndim("joints", joints.shape(), 2, "(joints, 3)")?;
     expect_last("joints", joints.shape(), 3, "(joints, 3)")?;
+    if let Some(w) = &weights {
+        expect_ndim("weights", w.shape(), 1, "(joints,)")?;
+    }
     let pts = points(&contiguous(joints.as_array()));
     let w = weights.map(|w| contiguous(w.as_array()));
     let plane =
@@ -76,14 +78,15 @@ fn status(result: &Result<torso_core::TorsoPlane, Error>) -> u8 {
 #[pyo3(signature = (joints, sides, weights=None, min_orientation_cosine=None))]
 pub fn fit_planes<'py>(
     py: Python<'py>,
-    joints: PyArrayLike3<'py, f64, AllowTypeChange>,
+    joints: PyArrayLikeDyn<'py, f64, AllowTypeChange>,
     sides: &str,
-    weights: Option<PyArrayLike2<'py, f64, AllowTypeChange>>,
+    weights: Option<PyArrayLikeDyn<'py, f64, AllowTypeChange>>,
     min_orientation_cosine: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let min_orientation_cosine =
         min_orientation_cosine.unwrap_or(torso_core::MIN_ORIENTATION_COSINE);
     let shape = joints.shape().to_vec();
+    expect_ndim("joints", &shape, 3, "(frames, joints, 3)")?;
     expect_last("joints", &shape, 3, "(frames, joints, 3)")?;
     let sides = parse_sides(sides)?;
     if shape[1] != sides.len() {
@@ -103,15 +106,20 @@ pub fn fit_planes<'py>(
     let (mut azimuth, mut elevation, mut rms) =
         (vec![f64::NAN; n], vec![f64::NAN; n], vec![f64::NAN; n]);
     let mut codes = vec![0u8; n];
-    let results = torso_core::fit_torso_planes(&pts, &sides, w.as_deref(), min_orientation_cosine)
-        .map_err(to_py)?;
-    for (i, result) in results.enumerate() {
-        codes[i] = status(&result);
-        if let Ok(p) = result {
-            (centre[i], normal[i], azimuth[i], elevation[i], rms[i]) =
-                (p.centre, p.normal, p.azimuth, p.elevation, p.rms_residual);
+    // The frames' fits run without the GIL: other Python threads go on meanwhile.
+    py.detach(|| -> torso_core::Result<()> {
+        let results =
+            torso_core::fit_torso_planes(&pts, &sides, w.as_deref(), min_orientation_cosine)?;
+        for (i, result) in results.enumerate() {
+            codes[i] = status(&result);
+            if let Ok(p) = result {
+                (centre[i], normal[i], azimuth[i], elevation[i], rms[i]) =
+                    (p.centre, p.normal, p.azimuth, p.elevation, p.rms_residual);
+            }
         }
-    }
+        Ok(())
+    })
+    .map_err(to_py)?;
     let out = PyDict::new(py);
     out.set_item("centre", matrix(py, &centre)?)?;
     out.set_item("normal", matrix(py, &normal)?)?;
