@@ -220,3 +220,9 @@ def test_a_horizon_beyond_an_hour_is_refused_not_carried_to_infinity():
             f.forecast(horizons)
         with pytest.raises(tc.InvalidArgumentError, match="horizons"):
             person.intervals(horizons)
+
+
+def test_a_negative_velocity_window_is_refused():
+    # It was accepted (the list of silently wrong inputs).
+    with pytest.raises(tc.InvalidArgumentError, match="window"):
+        tc.ForecasterConfig("constant_velocity", velocity_window=-1.0)

@@ -253,3 +253,21 @@ def test_a_damaged_video_reports_the_frames_it_cannot_decode_and_goes_on(tmp_pat
     assert len(frames) == 230 and [f.index for f in frames] == list(range(230))
     assert skipped and "cannot be decoded" in skipped[0].reason
     assert max(decoded) > skipped[0].index  # frames after the damage still come
+
+
+def test_a_frame_whose_image_the_model_cannot_take_is_a_bad_frame_and_changes_nothing():
+    # A 2-D or float colour image raised a ValueError that ended a run with a traceback.
+    from torsocast.camera import Camera, Intrinsics
+    from torsocast.keypoints import open_model
+    from torsocast.pipeline import BadFrameError, Pipeline
+    from torsocast.sources import Frame
+
+    pipeline = Pipeline(open_model(None))
+    camera = Camera(Intrinsics(500.0, 500.0, 320.0, 240.0))
+    depth = np.ones((480, 640), np.float32)
+    for colour in (np.zeros((480, 640), np.uint8), np.zeros((480, 640, 3), np.float64)):
+        with pytest.raises(BadFrameError, match="frame 0"):
+            pipeline(Frame(0, 0.0, colour, depth, camera))
+        assert pipeline.last_time is None and pipeline.frames == 0
+    pipeline(Frame(0, 0.0, np.zeros((480, 640, 3), np.uint8), depth, camera))
+    assert pipeline.last_time == 0.0

@@ -92,7 +92,10 @@ class Pipeline:
                 f"{frame.color.shape[:2]} (the keypoints would read depth at the wrong pixels)"
             )
         clock = time.perf_counter()
-        detections = self.model(frame.color)
+        try:
+            detections = self.model(frame.color)
+        except ValueError as e:  # an image the model cannot take (not uint8 RGB): this frame only
+            raise BadFrameError(f"frame {frame.index}: {e}") from e
         clock = self._lap("model", clock)
         before_restart = None
         if restarted_from is not None:
