@@ -148,8 +148,10 @@ def test_run_leaves_out_a_frame_that_repeats_a_time_stamp(walk, tmp_path, capsys
     summary = run(Replay(repeated), open_model(None), tmp_path, progress=False)
     assert summary.frames == len(frames) and summary.rejected == 1
     assert "1 left out" in str(summary) and "frame 9 left out" in capsys.readouterr().err
-    times = [json.loads(line)["time"] for line in (tmp_path / "frames.jsonl").read_text().splitlines()]
-    assert times == [f.time for f in frames]
+    records = [json.loads(line) for line in (tmp_path / "frames.jsonl").read_text().splitlines()]
+    assert [r["time"] for r in records if "skipped" not in r] == [f.time for f in frames]
+    left_out = [r for r in records if "skipped" in r]  # the repeated frame has its line, and why
+    assert len(left_out) == 1 and left_out[0]["frame"] == 9 and "not after" in left_out[0]["skipped"]
 
 
 def test_a_frame_stamped_an_hour_ahead_costs_one_restart_not_the_following_hour(walk, tmp_path, capsys):

@@ -3,6 +3,7 @@ optionally overlay pictures), with frames per second and time per stage at the e
 
 from __future__ import annotations
 
+import math
 import sys
 import time
 from collections.abc import Callable, Sequence
@@ -89,6 +90,8 @@ def run(
                 if not rejected:
                     print(f"frame {frame.index} left out: {e}", file=sys.stderr)
                 rejected += 1
+                stamp = frame.time if math.isfinite(frame.time) else None
+                jsonl.skipped(SkippedFrame(frame.index, stamp, f"left out: {e}"))
                 continue
             if result.restarted_from is not None:
                 back = result.restarted_from - frame.time
