@@ -350,3 +350,62 @@ def test_batch_calls_in_threads_give_the_serial_results():
     for (fa, pa), (fb, pb) in zip(serial, parallel):
         np.testing.assert_array_equal(fa, fb)
         np.testing.assert_array_equal(pa, pb)
+
+
+_HOSTILE_ARRAYS = st.one_of(
+    st.lists(ANY_FLOAT, max_size=6).map(np.array),
+    st.lists(st.lists(ANY_FLOAT, min_size=2, max_size=2), max_size=3).map(np.array),
+    st.integers(-5, 5).map(lambda v: np.array(v)),
+    st.text(max_size=5).map(np.array),
+    st.just(np.zeros((4, 4))),
+)
+
+
+@SETTINGS
+@given(
+    key=st.sampled_from(["intrinsics", "distortion", "depth_scale", "camera_to_world", "time"]),
+    value=_HOSTILE_ARRAYS,
+)
+def test_run_on_a_recording_with_any_calibration_arrays_exits_0_or_2(tmp_path_factory, key, value):
+    # Never a traceback: a recording whose arrays cannot describe a camera is one line and exit 2.
+    import contextlib
+    import io
+
+    from torsocast.cli import main
+
+    folder = tmp_path_factory.mktemp("recording")
+    arrays = {
+        "color": np.zeros((2, 24, 32, 3), np.uint8),
+        "depth": np.full((2, 24, 32), 2000, np.uint16),
+        "time": np.array([0.0, 0.04]),
+        "intrinsics": np.array([30.0, 30.0, 16.0, 12.0]),
+    }
+    arrays[key] = value
+    np.savez(folder / "rec.npz", **arrays)
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+        code = main(["run", str(folder / "rec.npz"), "--out", str(folder / "out")])
+    assert code in (0, 2)
+    if code == 2:
+        assert len(err.getvalue().strip().splitlines()) == 1, err.getvalue()
+
+
+@SETTINGS
+@given(
+    rgb=st.lists(st.text(alphabet="0123456789. -abc/png\t#", max_size=20), max_size=4),
+    depth=st.lists(st.text(alphabet="0123456789. -abc/png\t#", max_size=20), max_size=4),
+)
+def test_run_on_a_tum_folder_with_any_lists_exits_0_or_2(tmp_path_factory, rgb, depth):
+    # Never a traceback: lists that pair nothing, or lines that do not parse, are one line, exit 2.
+    import contextlib
+    import io
+
+    from torsocast.cli import main
+
+    folder = tmp_path_factory.mktemp("tum")
+    (folder / "rgb.txt").write_text("\n".join(["0.0 rgb/0.png", *rgb]))
+    (folder / "depth.txt").write_text("\n".join(["0.0 depth/0.png", *depth]))
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+        code = main(["run", str(folder), "--out", str(folder / "out")])
+    assert code in (0, 2), err.getvalue()

@@ -44,12 +44,23 @@ class NpzRecording:
                 f"{self.path}: depth {depth.shape} and time {time.shape} must match "
                 f"color's (T, h, w) {color.shape[:3]}"
             )
-        check_increasing(time.astype(np.float64), self.name)
-        fx, fy, cx, cy = self.data["intrinsics"]
-        distortion = tuple(self.data["distortion"]) if "distortion" in self.data else ()
-        pose = self.data["camera_to_world"] if "camera_to_world" in self.data else level_camera()
-        scale = float(self.data["depth_scale"]) if "depth_scale" in self.data else 0.001
+        check_increasing(self._numbers("time", (len(time),)), self.name)
+        fx, fy, cx, cy = self._numbers("intrinsics", (4,))
+        distortion = tuple(self._numbers("distortion", None)) if "distortion" in self.data else ()
+        pose = self._numbers("camera_to_world", (4, 4)) if "camera_to_world" in self.data else level_camera()
+        scale = float(self._numbers("depth_scale", ())) if "depth_scale" in self.data else 0.001
         self.camera = Camera(Intrinsics(fx, fy, cx, cy, distortion), pose, scale)
+
+    def _numbers(self, name: str, shape: tuple[int, ...] | None) -> npt.NDArray[np.float64]:
+        """Array ``name`` as float64 numbers of ``shape`` (None: any one-dimensional), or a
+        ValueError that names it."""
+        value = self.data[name]
+        if not (np.issubdtype(value.dtype, np.number) or value.dtype == np.bool_):
+            raise ValueError(f"{self.path}: {name} must hold numbers, got {value.dtype}")
+        if (shape is None and value.ndim != 1) or (shape is not None and value.shape != shape):
+            expected = "one-dimensional" if shape is None else f"shaped {shape}"
+            raise ValueError(f"{self.path}: {name} must be {expected}, got {value.shape}")
+        return value.astype(np.float64)
 
     def __len__(self) -> int:
         return len(self.data["time"])
