@@ -163,3 +163,20 @@ def test_forecast_on_any_text_writes_json_or_says_one_line_and_exits_2(rows, sep
         json.loads(line, parse_constant=refuse)  # strict JSON: no NaN or Infinity tokens
     if code == 2:
         assert err.getvalue().strip()
+
+
+@pytest.mark.parametrize(
+    "content",
+    [
+        "",
+        "hello world\n",
+        ",".join(["0"] * 116) + "\n",
+        (",".join(["0"] * 117) + "\n") + ",".join(["nan"] * 117) + "\n",
+    ],
+)
+def test_demo_on_a_clip_it_cannot_read_says_one_line_and_exits_2(tmp_path, capsys, content):
+    clip = tmp_path / "clip.txt"
+    clip.write_text(content)
+    assert main(["demo", "--clip", str(clip), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("torsocast demo:")

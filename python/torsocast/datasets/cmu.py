@@ -102,6 +102,8 @@ def read_clip(path: str | Path) -> F64:
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"{path}: no such CMU clip file")
+    if not path.read_text().strip():
+        raise ValueError(f"{path}: the clip file is empty")
     rows = np.loadtxt(path, delimiter=",", ndmin=2)
     if rows.shape[1] != COLUMNS:
         raise ValueError(f"{path}: expected {COLUMNS} comma-separated numbers per line, got {rows.shape[1]}")
