@@ -409,3 +409,29 @@ def test_run_on_a_tum_folder_with_any_lists_exits_0_or_2(tmp_path_factory, rgb, 
     with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
         code = main(["run", str(folder), "--out", str(folder / "out")])
     assert code in (0, 2), err.getvalue()
+
+
+@settings(max_examples=40, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    rows=st.lists(st.lists(ANY_FLOAT.map(repr) | st.text(max_size=3), max_size=100), max_size=6),
+    subjects=st.sampled_from(["9", "9,11", "x", "-1", ""]),
+)
+def test_eval_h36m_on_any_file_content_exits_0_or_2(tmp_path_factory, rows, subjects):
+    # Never a traceback: a file it cannot use is left out and named, a bad option is one line.
+    import contextlib
+    import io
+
+    from torsocast.cli import main
+
+    root = tmp_path_factory.mktemp("h36m")
+    (root / "S9").mkdir()
+    (root / "S9" / "walking_1.txt").write_text("\n".join(",".join(r) for r in rows))
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+        try:
+            code = main(
+                ["eval", "h36m", "--data", str(root), "--subjects", subjects, "--out", str(root / "out")]
+            )
+        except SystemExit as e:  # argparse refusing an option
+            code = e.code
+    assert code in (0, 2), err.getvalue()

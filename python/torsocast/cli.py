@@ -93,7 +93,16 @@ def _eval_h36m(args: argparse.Namespace) -> int:
     if data is None:
         print(f"no Human3.6M data: pass --data DIR or set {H36M_ENV}", file=sys.stderr)
         return 2
-    subjects = [int(s) for s in args.subjects.split(",")]
+    try:
+        subjects = [int(s) for s in args.subjects.split(",") if s.strip()]
+    except ValueError:
+        subjects = []
+    if not subjects or any(s < 1 for s in subjects):
+        print(
+            f"--subjects: expected comma-separated subject numbers (5 for S5), got {args.subjects!r}",
+            file=sys.stderr,
+        )
+        return 2
     files = sum(len(h36m.available(data, s)) for s in subjects)
     if files == 0:
         print(
