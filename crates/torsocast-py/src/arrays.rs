@@ -19,7 +19,7 @@ pub fn contiguous<D: Dimension>(view: ArrayView<'_, f64, D>) -> Vec<f64> {
 /// The array's elements in C (row-major) order: borrowed when the array is laid out so, copied
 /// otherwise. A Fortran-ordered or transposed array is contiguous too, but in the other order,
 /// so its memory is never read as it lies.
-pub fn c_order<'a, D: Dimension>(view: &'a ArrayView<'_, f64, D>) -> Cow<'a, [f64]> {
+pub fn c_order<'a, T: Copy, D: Dimension>(view: &'a ArrayView<'_, T, D>) -> Cow<'a, [T]> {
     match view.as_slice() {
         Some(s) => Cow::Borrowed(s),
         None => Cow::Owned(view.iter().copied().collect()),
@@ -74,34 +74,8 @@ pub fn vector<'py>(py: Python<'py>, values: &[f64]) -> Bound<'py, PyArray1<f64>>
     PyArray1::from_slice(py, values)
 }
 
-/// A depth image's pixels in row-major order (borrowed when the array lies so) with its size.
-pub struct DepthPixels<'a> {
-    pub data: Cow<'a, [f32]>,
-    pub width: usize,
-    pub height: usize,
-}
-
-/// The `(height, width)` depth image of `depth`, in metres.
-pub fn depth_image<'a>(
-    depth: &'a numpy::PyArrayLikeDyn<'_, f32, numpy::AllowTypeChange>,
-) -> PyResult<DepthPixels<'a>> {
-    use numpy::PyUntypedArrayMethods;
-    let shape = depth.shape();
-    if shape.len() != 2 {
-        return Err(shape_error("depth", "(height, width) in metres", shape));
-    }
-    let view = depth.as_array();
-    let data = match view.as_slice() {
-        Some(_) => Cow::Borrowed(
-            depth
-                .as_slice()
-                .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?,
-        ),
-        None => Cow::Owned(view.iter().copied().collect()),
-    };
-    Ok(DepthPixels {
-        data,
-        width: shape[1],
-        height: shape[0],
-    })
+/// Checks that `depth` is a `(height, width)` image and gives its `(height, width)`.
+pub fn depth_size(shape: &[usize]) -> PyResult<(usize, usize)> {
+    expect_ndim("depth", shape, 2, "(height, width) in metres")?;
+    Ok((shape[0], shape[1]))
 }

@@ -319,11 +319,13 @@ frozen_config!(DepthLookup, {
         depth: PyArrayLikeDyn<'py, f32, AllowTypeChange>,
         uv: PyArrayLikeDyn<'py, f64, AllowTypeChange>,
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-        let image = crate::arrays::depth_image(&depth)?;
+        let (height, width) = crate::arrays::depth_size(depth.shape())?;
         let shape = uv.shape().to_vec();
         crate::arrays::expect_last("uv", &shape, 2, "(..., 2)")?;
         let flat = crate::arrays::c_order(&uv.as_array()).into_owned();
-        let image = DepthImage::new(&image.data, image.width, image.height).map_err(to_py)?;
+        let view = depth.as_array();
+        let pixels = crate::arrays::c_order(&view);
+        let image = DepthImage::new(&pixels, width, height).map_err(to_py)?;
         let out: Vec<f64> = flat
             .chunks_exact(2)
             .map(|p| self.inner.depth_at(&image, [p[0], p[1]]))

@@ -1,6 +1,6 @@
 //! The multi-person tracker: one call per frame, with the GIL released while the core works.
 
-use crate::arrays::{c_order, depth_image, matrix};
+use crate::arrays::{c_order, depth_size, matrix};
 use crate::config::TrackerConfig;
 use crate::errors::{shape_error, to_py};
 use crate::person::Observation;
@@ -269,8 +269,10 @@ impl Tracker {
             Intrinsics::new(fx, fy, cx, cy, distortion).map_err(to_py)?,
             to_world,
         );
-        let pixels = depth_image(&depth)?;
-        let image = DepthImage::new(&pixels.data, pixels.width, pixels.height).map_err(to_py)?;
+        let (height, width) = depth_size(depth.shape())?;
+        let view = depth.as_array();
+        let pixels = c_order(&view);
+        let image = DepthImage::new(&pixels, width, height).map_err(to_py)?;
         let (inner, rows, outcomes) = (&mut self.inner, &self.rows, &mut self.outcomes);
         py.detach(|| -> torso_core::Result<()> {
             let keypoints: &[Keypoints] = rows;
