@@ -19,7 +19,7 @@ from torsocast.evaluation.scenes.tables import distance_bin, view_bin
 from torsocast.keypoints import open_model
 from torsocast.pipeline import Pipeline
 from torsocast.synthetic.motions import Motion
-from torsocast.synthetic.scenes import Actor, RenderedScene, SceneSpec, torso_truth
+from torsocast.synthetic.scenes import TURNING, Actor, RenderedScene, SceneSpec, torso_truth
 from torsocast.synthetic.sensor import DepthNoise
 
 
@@ -86,6 +86,23 @@ def test_an_actor_stands_where_its_placement_puts_it(standing):
     # Seen from the camera at the origin: the direction to it from the torso, against the heading.
     to_camera = np.arctan2(-truth[1], -truth[0])
     assert view_angle(truth, np.zeros(2)) == pytest.approx(np.degrees(wrap_angle(np.pi / 2 - to_camera)))
+
+
+def test_a_turning_actor_turns_at_its_rate_on_the_spot(standing):
+    # A still person given a turn of 90 deg/s: the true heading is the placed one plus the rate
+    # times the time from the anchor, and the pelvis stays where it was put.
+    rate = np.radians(90.0)
+    actor = Actor("still", 0.0, 0.5, 0.3, (2.0, 0.5), turn=rate)
+    spec = SceneSpec("turn", "kinect_v2", 15.0, 1.0, -5.0, 1.5, (actor,), seed=1)
+    scene = RenderedScene(spec, {"still": standing})
+    t = np.linspace(0.0, 1.5, 7)
+    heading = np.unwrap(scene.truth_at(0, t)[:, 3])
+    still = torso_truth(standing.joints[:1])[0, 3]
+    assert heading == pytest.approx(np.unwrap(still + 0.3 + rate * (t - 0.5)), abs=1e-9)
+    assert scene.placed[0][:, cmu.PELVIS, :2] == pytest.approx(np.tile([2.0, 0.5], (240, 1)), abs=1e-9)
+    assert scene.category(0) == TURNING
+    unturned = RenderedScene(facing(standing, 0.0, (2.0, 0.0)), {"still": standing})
+    assert unturned.category(0) == "test"  # the clip's own category
 
 
 def test_labels_show_whose_pixel_it_is_and_a_person_behind_another_is_hidden(standing):
@@ -237,7 +254,10 @@ def test_eval_scenes_quick_runs_and_its_numbers_come_back_for_the_seed(tmp_path,
         "h36m pedestrian",
         "h36m constrained",
         "h36m high variance",
+        TURNING,
     }
+    # The quick split's last scene is a turning one: its people turn on the spot.
+    assert any(r["group"] == TURNING for r in tables["recovery"]["category"])
     for name in ("scenes_view_polar.png", "scenes_horizon.png", "scenes_frame.png"):
         assert (tmp_path / "figures" / name).stat().st_size > 5000
     # One scene again from its spec: the same records, number for number.

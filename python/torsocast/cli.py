@@ -128,7 +128,7 @@ def _eval_h36m(args: argparse.Namespace) -> int:
 
 def _eval_scenes(args: argparse.Namespace) -> int:
     from .evaluation.scenes import report
-    from .evaluation.scenes.plan import CMU_ENV, FULL, QUICK, Catalogue, Size, data_folder
+    from .evaluation.scenes.plan import CMU_ENV, FULL, QUICK, Catalogue, data_folder
     from .evaluation.scenes.run import YOLO_ENV, Models, evaluate
 
     cmu_root = data_folder(args.cmu, CMU_ENV)
@@ -139,7 +139,7 @@ def _eval_scenes(args: argparse.Namespace) -> int:
         if args.scenes < 1:
             print(f"--scenes: expected a positive number, got {args.scenes}", file=sys.stderr)
             return 2
-        size = Size(args.scenes, size.duration)
+        size = size.scaled(args.scenes)
     try:
         catalogue = Catalogue.find(args.split, cmu_root, h36m_root)
         models = Models.open(yolo)

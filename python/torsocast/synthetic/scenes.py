@@ -26,6 +26,9 @@ from .sensor import SENSORS
 
 F64 = npt.NDArray[np.float64]
 
+#: Motion category of a person turning on the spot (:attr:`Actor.turn`), whatever the clip.
+TURNING = "turning on the spot"
+
 
 def torso_truth(joints: F64) -> F64:
     """``(frames, 5)`` torso poses ``(x, y, z, azimuth, elevation)`` of ``(frames, 38, 3)`` mocap
@@ -45,7 +48,11 @@ def yaw_matrix(yaw: float) -> F64:
 class Actor:
     """One person of a scene: ``motion`` (a name) played from ``start`` seconds into the clip at
     the scene's time 0, turned by ``yaw`` (rad) about the clip's pelvis at ``anchor`` seconds
-    into the clip, and moved so that that pelvis stands at ``position`` (x, y) on the floor."""
+    into the clip, and moved so that that pelvis stands at ``position`` (x, y) on the floor.
+
+    With a ``turn`` rate (rad/s), the person turns on the spot instead: the pelvis stays at
+    ``position`` while the body turns about it, by ``yaw`` at ``anchor`` and steadily from there
+    (the clip's own walking and turning are kept relative to the pelvis)."""
 
     motion: str
     start: float
@@ -53,12 +60,27 @@ class Actor:
     yaw: float
     position: tuple[float, float]
     outfit: Outfit = field(default_factory=Outfit)
+    # Left out of the repr so that the scenes drawn before turning existed keep their cache keys
+    # (the scenes benchmark's cache names files by the spec's repr; it adds the turn itself).
+    turn: float = field(default=0.0, repr=False)
+
+    @property
+    def category(self) -> str | None:
+        """The motion category this actor's placement makes of any clip: :data:`TURNING` for a
+        person turning on the spot, else None (the clip's own category)."""
+        return TURNING if self.turn else None
 
     def place(self, motion: Motion) -> F64:
         """The clip's joints ``(frames, 38, 3)`` where this actor puts them."""
+        target = np.array([*self.position, 0.0])
+        if self.turn:
+            pelvis = motion.joints[:, cmu.PELVIS : cmu.PELVIS + 1] * [1.0, 1.0, 0.0]
+            yaw = self.yaw + self.turn * (np.arange(len(motion.joints)) / motion.rate_hz - self.anchor)
+            c, s = np.cos(yaw)[:, None], np.sin(yaw)[:, None]
+            x, y, z = np.moveaxis(motion.joints - pelvis, -1, 0)
+            return np.stack([c * x - s * y, s * x + c * y, z], axis=-1) + target  # type: ignore[no-any-return]
         k = int(round(np.clip(self.anchor, 0.0, motion.duration) * motion.rate_hz))
         pivot = motion.joints[k, cmu.PELVIS] * [1.0, 1.0, 0.0]
-        target = np.array([*self.position, 0.0])
         return (motion.joints - pivot) @ yaw_matrix(self.yaw).T + target  # type: ignore[no-any-return]
 
 
@@ -114,6 +136,10 @@ class RenderedScene:
         clip = self.clips[actor]
         k = np.rint((np.asarray(t) + self.spec.actors[actor].start) * clip.rate_hz).astype(np.intp)
         return np.where((k >= 0) & (k < len(clip.joints)), k, -1)
+
+    def category(self, actor: int) -> str:
+        """The motion category of ``actor``: its clip's, or :data:`TURNING`."""
+        return self.spec.actors[actor].category or self.clips[actor].category
 
     def truth_at(self, actor: int, t: float | F64) -> F64:
         """True torso pose(s) of ``actor`` at scene time(s) ``t``: ``(..., 5)``, NaN where absent."""

@@ -5,7 +5,9 @@ and the CMU test walk (the CMU test clips of the other actions are kept back as 
 never read). A scene draws, from its own seed: a sensor, a frame rate, the camera's height and
 tilt, and one to six people, each a clip of a motion category drawn uniformly, turned to any
 heading and placed 1 to 6 m from the camera inside its field of view, never nearer than
-:data:`MIN_SEPARATION` to another person at the same instant.
+:data:`MIN_SEPARATION` to another person at the same instant. After these come a few scenes of
+one to three people turning on the spot at a steady rate (the case of a steady turn, where a
+heading forecast has a real trend to continue).
 """
 
 from __future__ import annotations
@@ -42,17 +44,32 @@ SINGLE_SHARE = 1 / 3
 MAX_PEOPLE = 6
 
 
+#: Turning scenes: one to three people, each turning on the spot at a steady rate drawn from this
+#: range (deg/s, either way) while acting out a clip of these categories (people who stay roughly
+#: in place); the real turntable sequence turns at about 107 deg/s.
+TURN_RATE_DEG = (30.0, 120.0)
+TURNING_PEOPLE = 3
+TURNING_MOTIONS = ("h36m constrained", "h36m high variance")
+
+
 @dataclass(frozen=True)
 class Size:
-    """How much a run renders."""
+    """How much a run renders: ``scenes`` of people as their clips move them, then ``turning``
+    scenes of people turning on the spot (numbered after the others, so that adding them left
+    the first scenes as they were)."""
 
     scenes: int
     duration: float
     """Seconds per scene."""
+    turning: int = 0
+
+    def scaled(self, scenes: int) -> Size:
+        """``scenes`` scenes, with turning scenes in the same proportion."""
+        return Size(scenes, self.duration, round(self.turning * scenes / self.scenes))
 
 
-FULL = Size(scenes=100, duration=6.0)
-QUICK = Size(scenes=8, duration=4.0)
+FULL = Size(scenes=100, duration=6.0, turning=16)
+QUICK = Size(scenes=8, duration=4.0, turning=1)
 
 #: Where the data is looked for when no folder is given.
 CMU_ENV, H36M_ENV = "TORSOCAST_CMU", "TORSOCAST_H36M"
@@ -124,12 +141,21 @@ class Catalogue:
         """The motions loaded so far, by name."""
         return dict(self._loaded)
 
-    def draw(self, rng: np.random.Generator, avoid: frozenset[str] = frozenset()) -> Motion:
+    def draw(
+        self,
+        rng: np.random.Generator,
+        avoid: frozenset[str] = frozenset(),
+        categories: tuple[str, ...] | None = None,
+    ) -> Motion:
         """A motion of a category drawn uniformly (so that rare categories are not drowned by
-        the many Human3.6M files), other than those in ``avoid`` where the category has others;
-        a file that cannot be read is left out and noted."""
+        the many Human3.6M files; among ``categories`` where the split has any of them), other
+        than those in ``avoid`` where the category has others; a file that cannot be read is
+        left out and noted."""
         while self.entries:
-            category = sorted(self.entries)[int(rng.integers(len(self.entries)))]
+            names = sorted(self.entries)
+            if categories is not None and any(c in self.entries for c in categories):
+                names = [c for c in names if c in categories]
+            category = names[int(rng.integers(len(names)))]
             entries = self.entries[category]
             fresh = [e for e in entries if e[0] not in avoid] or entries
             name, _ = fresh[int(rng.integers(len(fresh)))]
@@ -151,16 +177,27 @@ def _pelvis_path(actor: Actor, motion: Motion, times: np.ndarray) -> np.ndarray:
     return np.where(ok[:, None], pelvis, np.nan)
 
 
+def _turn_rate(rng: np.random.Generator) -> float:
+    return float(rng.choice([-1.0, 1.0]) * np.radians(rng.uniform(*TURN_RATE_DEG)))
+
+
 def draw_scene(
-    catalogue: Catalogue, index: int, seed: int, size: Size, people: int | None = None
+    catalogue: Catalogue,
+    index: int,
+    seed: int,
+    size: Size,
+    people: int | None = None,
+    turning: bool = False,
 ) -> SceneSpec:
-    """Scene ``index`` of a run with ``seed``: the same numbers give the same scene."""
+    """Scene ``index`` of a run with ``seed``: the same numbers give the same scene. A
+    ``turning`` scene's people turn on the spot (:data:`TURN_RATE_DEG`)."""
     rng = np.random.default_rng([seed, index])
     sensor = sorted(SENSORS)[int(rng.integers(len(SENSORS)))]
     fps = FRAME_RATES[int(rng.integers(len(FRAME_RATES)))]
     height, tilt = rng.uniform(*HEIGHT_M), rng.uniform(*TILT_DEG)
+    most = TURNING_PEOPLE if turning else MAX_PEOPLE
     if people is None:
-        people = 1 if rng.random() < SINGLE_SHARE else int(rng.integers(2, MAX_PEOPLE + 1))
+        people = 1 if rng.random() < SINGLE_SHARE else int(rng.integers(2, most + 1))
     intr = SENSORS[sensor].intrinsics
     half_fov = np.arctan2(SENSORS[sensor].width / 2, intr.fx)
     times = np.arange(0.0, size.duration + 1e-9, 0.1)
@@ -168,7 +205,8 @@ def draw_scene(
     paths: list[np.ndarray] = []
     for _ in range(people):
         for _attempt in range(30):
-            motion = catalogue.draw(rng, frozenset(a.motion for a in actors))
+            avoid = frozenset(a.motion for a in actors)
+            motion = catalogue.draw(rng, avoid, TURNING_MOTIONS if turning else None)
             spare = motion.duration - size.duration
             # A clip shorter than the scene starts at a random moment of it (the person appears).
             start = rng.uniform(0.0, spare) if spare >= 0 else -rng.uniform(0.0, -spare)
@@ -182,6 +220,7 @@ def draw_scene(
                 float(rng.uniform(-np.pi, np.pi)),
                 (float(distance * np.cos(bearing)), float(distance * np.sin(bearing))),
                 random_outfit(rng),
+                turn=_turn_rate(rng) if turning else 0.0,
             )
             path = _pelvis_path(actor, motion, times)
             with np.errstate(invalid="ignore"):

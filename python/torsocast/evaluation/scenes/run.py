@@ -65,7 +65,9 @@ class Benchmark:
 
 
 def _cache_file(cache: Path, spec: SceneSpec, model: KeypointModel) -> Path:
-    key = hashlib.sha256(f"{spec!r} {type(model).__name__} {model.input_size}".encode()).hexdigest()[:16]
+    turns = [a.turn for a in spec.actors if a.turn]  # not in the repr (see Actor.turn)
+    text = f"{spec!r} {type(model).__name__} {model.input_size}" + (f" turns {turns}" if turns else "")
+    key = hashlib.sha256(text.encode()).hexdigest()[:16]
     return cache / f"{spec.name}-{key}.npz"
 
 
@@ -150,6 +152,7 @@ def evaluate(
     """Draws the split's scenes for ``seed`` and runs them all (``cache``: see :func:`run_scene`)."""
     size = size or (QUICK if quick else FULL)
     specs = [draw_scene(catalogue, i, seed, size) for i in range(size.scenes)]
+    specs += [draw_scene(catalogue, size.scenes + i, seed, size, turning=True) for i in range(size.turning)]
     bench = Benchmark(catalogue.split, seed, quick, [], notes=catalogue.notes)
     bench.models = {"one person": "MoveNet Lightning int8 (bundled)", "several people": models.multi_name}
     if models.multi is None:

@@ -103,7 +103,7 @@ class Scorer:
             table[key].append(value)
         table["t"].append(t)
         table["actor"].append(actor)
-        table["category"].append(self.scene.clips[actor].category)
+        table["category"].append(self.scene.category(actor))
         table["view"].append(view_angle(truth, self.camera_xy))
         table["distance"].append(float(np.linalg.norm(truth[:2] - self.camera_xy)))
 
@@ -186,7 +186,7 @@ class Scorer:
             for key, value in self.conditions.items():
                 g[key].append(value)
             g["actor"].append(actor)
-            g["category"].append(self.scene.clips[actor].category)
+            g["category"].append(self.scene.category(actor))
             g["visible_frames"].append(len(seen))
             g["tracks"].append(len(ends))
             g["switches"].append(switches)
