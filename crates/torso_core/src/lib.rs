@@ -53,6 +53,7 @@ pub mod selfcheck;
 pub mod sides;
 pub mod smoothing;
 pub mod tracker;
+pub mod trend;
 mod vec3;
 
 pub use assignment::{linear_assignment, Assignment};

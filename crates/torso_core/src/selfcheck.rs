@@ -10,24 +10,29 @@
 //! the three that would have erred least on the recent scores (the minimum-variance convex weights of correlated predictors, from
 //! forgetting sums of their products of errors): a trend the track's own data do not support
 //! is shrunk towards holding still, a steady one is continued in full.
+//!
+//! Each component has a prior candidate, the one it forecasts with before any check and the
+//! one an angle falls back to: holding still, unless the track's history shows the component
+//! moving steadily ([`crate::trend`]): then the centre's damped trend (bodies move with
+//! inertia) and the azimuth's constant velocity (a steady turn). An angle's mix takes another candidate only when that
+//! one's gain over the prior (the difference of their squared errors) is significant: its mean
+//! [`SIGNIFICANCE`] standard errors above zero, counting the scores of one horizon's span as one
+//! (overlapping forecasts err together). A detector's azimuth and elevation noise makes most
+//! fitted angular trends a guess, and a guess that wins a few recent scores by chance would
+//! otherwise be continued.
 
-use crate::Pose;
+use crate::{Pose, AZIMUTH, ELEVATION};
 
 /// Time constant (s) with which old scores are forgotten.
 const MEMORY: f64 = 2.0;
 /// Predictions scored before the mix is trusted.
 const MIN_SCORED: f64 = 3.0;
-/// The mix before a track has checked anything: the centre continues its damped trend (bodies
-/// move with inertia: over all motions of the benchmark's development split the damped centre
-/// trend beats holding still, though not for people jumping on the spot), the angles hold
-/// still (a detector's azimuth and elevation noise makes a young track's angular trend a guess).
-const UNCHECKED: [[f64; CANDIDATES]; 5] = [
-    [0.0, 1.0, 0.0, 0.0],
-    [0.0, 1.0, 0.0, 0.0],
-    [0.0, 1.0, 0.0, 0.0],
-    [1.0, 0.0, 0.0, 0.0],
-    [1.0, 0.0, 0.0, 0.0],
-];
+/// Standard errors by which an angle candidate's mean gain over the prior must exceed zero to
+/// enter the mix. Chosen on the scenes benchmark's development split (docs/benchmark.md).
+pub const SIGNIFICANCE: f64 = 2.0;
+const HOLD: usize = 0;
+const DAMPED: usize = 1;
+const VELOCITY: usize = 3;
 /// Half-width of a central 80 % interval in units of [`SelfCheck::spread`]. A normal error would
 /// need 1.28; forecast errors against the truth have heavier tails and include what the track
 /// cannot see in its own errors (the estimate's offset from the true pose), so the multiplier
@@ -39,7 +44,6 @@ pub const CANDIDATES: usize = 4;
 /// The horizons (s) checked: the thesis' 0.4, 1 and 2 s.
 pub const HORIZONS: [f64; 3] = [0.4, 1.0, 2.0];
 const H: usize = HORIZONS.len();
-const HOLD_ONLY: [f64; CANDIDATES] = [1.0, 0.0, 0.0, 0.0];
 
 #[derive(Clone, Copy, Debug, Default)]
 struct Prediction {
@@ -69,8 +73,9 @@ pub struct SelfCheck {
     ring: Vec<Prediction>,
     next: usize,
     /// Per checked horizon, per component: forgetting sums of the products of the candidates'
-    /// errors.
+    /// errors, and of the products of their squares (for the spread of one's gain over another).
     sums: [[[[f64; CANDIDATES]; CANDIDATES]; 5]; H],
+    squares: [[[[f64; CANDIDATES]; CANDIDATES]; 5]; H],
     scored: [f64; H],
     last_scored: [Option<f64>; H],
     /// Per checked horizon and component, the minimum-variance weights of `sums` where
@@ -78,6 +83,8 @@ pub struct SelfCheck {
     /// and its intervals in one frame share them.
     mix: [[[f64; CANDIDATES]; 5]; H],
     fresh: [bool; H],
+    /// Per component, whether the track's history moves steadily ([`crate::trend`]).
+    steady: [bool; 5],
 }
 
 impl SelfCheck {
@@ -89,10 +96,12 @@ impl SelfCheck {
             ring: vec![Prediction::default(); slots],
             next: 0,
             sums: [[[[0.0; CANDIDATES]; CANDIDATES]; 5]; H],
+            squares: [[[[0.0; CANDIDATES]; CANDIDATES]; 5]; H],
             scored: [0.0; H],
             last_scored: [None; H],
-            mix: [UNCHECKED; H],
+            mix: [unchecked([false; 5]); H],
             fresh: [false; H],
+            steady: [false; 5],
         }
     }
 
@@ -120,10 +129,11 @@ impl SelfCheck {
                 self.scored[k] = self.scored[k] * decay + 1.0;
                 for c in 0..5 {
                     let e = p.poses[k].map(|pose| sample[c] - pose[c]);
-                    let sums = &mut self.sums[k][c];
+                    let (sums, squares) = (&mut self.sums[k][c], &mut self.squares[k][c]);
                     for a in 0..CANDIDATES {
                         for b in 0..CANDIDATES {
                             sums[a][b] = sums[a][b] * decay + e[a] * e[b];
+                            squares[a][b] = squares[a][b] * decay + (e[a] * e[b]).powi(2);
                         }
                     }
                 }
@@ -140,28 +150,29 @@ impl SelfCheck {
     /// Per component, the weights of hold, damped trend, plain trend and constant velocity
     /// (non-negative, summing to one) for a forecast `horizon` seconds ahead: those of the
     /// checked horizon nearest to it (on a log scale), once it has been scored a few times.
-    /// Before that, a shorter horizon's (with the angles' trust in a trend moved to the damped
-    /// trend), and before any check the unchecked mix (the centre's damped trend, the angles
-    /// held).
+    /// Before that, the centre takes a shorter horizon's and the angles their prior, and before
+    /// any check every component its prior.
     pub fn weights(&self, horizon: f64) -> [[f64; CANDIDATES]; 5] {
         let nearest = self.nearest(horizon);
         match self.checked(horizon) {
             Some(k) if k == nearest => self.mix(k),
-            // Not yet checked this far: a shorter check's weights serve; for the angles, its
-            // trust in a trend goes to the damped one, which fades with the horizon (a turn does
-            // not go on for ever; a walk mostly does).
+            // Not yet checked this far: a walk mostly goes on, so the centre's shorter check
+            // serves; an angle's evidence at a shorter horizon says little of a longer one.
             Some(k) => {
                 let mix = self.mix(k);
-                std::array::from_fn(|c| {
-                    let [hold, damped, plain, velocity] = mix[c];
-                    if c < 3 {
-                        [hold, damped, plain, velocity]
-                    } else {
-                        [hold, damped + plain + velocity, 0.0, 0.0]
-                    }
-                })
+                let prior = unchecked(self.steady);
+                std::array::from_fn(|c| if c < 3 { mix[c] } else { prior[c] })
             }
-            None => UNCHECKED,
+            None => unchecked(self.steady),
+        }
+    }
+
+    /// Tells the check which components of the track's history move steadily
+    /// ([`crate::trend`]): they take a trend as their prior, the others holding still.
+    pub fn set_steady(&mut self, steady: [bool; 5]) {
+        if steady != self.steady {
+            self.steady = steady;
+            self.fresh = [false; H];
         }
     }
 
@@ -186,7 +197,27 @@ impl SelfCheck {
     }
 
     fn solve(&self, k: usize) -> [[f64; CANDIDATES]; 5] {
-        std::array::from_fn(|c| convex_min_variance(&self.sums[k][c], allowed(c)))
+        std::array::from_fn(|c| {
+            if c < 3 {
+                return convex_min_variance(&self.sums[k][c], allowed(c), HOLD);
+            }
+            let p = prior(c, self.steady[c]);
+            let significant = (0..CANDIDATES)
+                .filter(|&a| allowed(c) & (1 << a) != 0 && self.significant(k, c, a, p))
+                .fold(1 << p, |set, a| set | (1 << a));
+            convex_min_variance(&self.sums[k][c], significant, p)
+        })
+    }
+
+    /// Whether candidate `a`'s mean gain over `p` at checked horizon `k` on component `c` is
+    /// [`SIGNIFICANCE`] standard errors above zero, with one effective score per horizon's span.
+    fn significant(&self, k: usize, c: usize, a: usize, p: usize) -> bool {
+        let (s, q, n) = (&self.sums[k][c], &self.squares[k][c], self.scored[k]);
+        let mean = (s[p][p] - s[a][a]) / n;
+        let second = (q[p][p] - 2.0 * q[a][p] + q[a][a]) / n;
+        let spread = (second - mean * mean).max(0.0).sqrt();
+        let independent = (n * self.half_step * 2.0 / HORIZONS[k]).max(1.0);
+        mean > SIGNIFICANCE * spread / independent.sqrt()
     }
 
     /// Per component, the root-mean-square error the mix of [`weights`](Self::weights) made on
@@ -242,30 +273,55 @@ impl SelfCheck {
     pub fn reset(&mut self) {
         self.drop_pending();
         self.sums = [[[[0.0; CANDIDATES]; CANDIDATES]; 5]; H];
+        self.squares = [[[[0.0; CANDIDATES]; CANDIDATES]; 5]; H];
         self.scored = [0.0; H];
         self.last_scored = [None; H];
-        self.mix = [UNCHECKED; H];
+        self.steady = [false; 5];
+        self.mix = [unchecked([false; 5]); H];
         self.fresh = [false; H];
     }
 }
 
-/// The weights `w ≥ 0`, `Σ w = 1` that minimise `wᵀ S w`: the best of the equality-constrained
-/// minima over every subset of candidates whose weights come out non-negative. Hold wins ties
-/// and degenerate cases.
-/// The candidates a component may mix, as a bit set: all four for the centre; the angles leave
-/// out constant velocity, which carries a front/back flip in the history on for ever.
-fn allowed(component: usize) -> u32 {
-    if component < 3 {
-        0b1111
-    } else {
-        0b0111
+/// A component's prior candidate (see the module's description).
+fn prior(component: usize, steady: bool) -> usize {
+    match component {
+        0..=2 if steady => DAMPED,
+        AZIMUTH if steady => VELOCITY,
+        _ => HOLD,
     }
 }
 
-fn convex_min_variance(s: &[[f64; CANDIDATES]; CANDIDATES], allowed: u32) -> [f64; CANDIDATES] {
-    let mut best = HOLD_ONLY;
+/// Every component's prior, as weights.
+fn unchecked(steady: [bool; 5]) -> [[f64; CANDIDATES]; 5] {
+    std::array::from_fn(|c| {
+        let mut w = [0.0; CANDIDATES];
+        w[prior(c, steady[c])] = 1.0;
+        w
+    })
+}
+
+/// The candidates a component may mix, as a bit set: all four for the centre and the azimuth
+/// (a steady turn); the elevation leaves out constant velocity (a torso does not keep pitching).
+fn allowed(component: usize) -> u32 {
+    if component == ELEVATION {
+        0b0111
+    } else {
+        0b1111
+    }
+}
+
+/// The weights `w ≥ 0`, `Σ w = 1` over the `allowed` candidates that minimise `wᵀ S w`: the best
+/// of the equality-constrained minima over every subset whose weights come out non-negative.
+/// Candidate `start` wins ties and degenerate cases.
+fn convex_min_variance(
+    s: &[[f64; CANDIDATES]; CANDIDATES],
+    allowed: u32,
+    start: usize,
+) -> [f64; CANDIDATES] {
+    let mut best = [0.0; CANDIDATES];
+    best[start] = 1.0;
     let mut best_value = quadratic(s, &best);
-    for i in (1..CANDIDATES).filter(|i| allowed & (1 << i) != 0) {
+    for i in (0..CANDIDATES).filter(|&i| i != start && allowed & (1 << i) != 0) {
         // A single candidate needs no solve (and may have erred not at all).
         if s[i][i] < best_value {
             best = [0.0; CANDIDATES];
@@ -344,13 +400,14 @@ fn quadratic(s: &[[f64; CANDIDATES]; CANDIDATES], w: &[f64; CANDIDATES]) -> f64 
 #[cfg(test)]
 mod tests {
     use super::*;
+    const HOLD_ONLY: [f64; CANDIDATES] = [1.0, 0.0, 0.0, 0.0];
 
     #[test]
     fn a_trend_that_comes_true_is_kept_and_one_that_does_not_is_dropped() {
         // Component 0 moves at 1 m/s: the plain trend says so, the damped one says half of it.
         // Component 3 stands still while both trends say it moves at 1 rad/s.
         let mut check = SelfCheck::new(25.0);
-        assert_eq!(check.weights(0.4), UNCHECKED);
+        assert_eq!(check.weights(0.4), unchecked([false; 5]));
         for k in 0..150 {
             let t = k as f64 / 25.0;
             let sample = [t, 0.0, 1.0, 0.3, 1.5];
@@ -388,6 +445,41 @@ mod tests {
     }
 
     #[test]
+    fn an_angle_trend_enters_the_mix_only_when_its_gain_is_significant() {
+        // The azimuth of one track turns at 0.5 rad/s (constant velocity is exact, holding errs
+        // by 0.5 h); the other's is level noise, where a velocity candidate is off by a small
+        // error of either sign that, scored against the noisy samples, sometimes wins.
+        let noise = |k: usize| 0.05 * ((k * 7919 % 101) as f64 / 50.0 - 1.0);
+        let (mut turn, mut level) = (SelfCheck::new(25.0), SelfCheck::new(25.0));
+        for k in 0..150 {
+            let t = k as f64 / 25.0;
+            let at = |az: f64| [0.0, 0.0, 1.0, az, 1.5];
+            let held = [at(0.5 * t); 3];
+            let velocity = HORIZONS.map(|h| at(0.5 * (t + h)));
+            turn.record(t, at(0.5 * t), &held, &held, &velocity);
+            let held = [at(noise(k)); 3];
+            let wrong =
+                HORIZONS.map(|h| at(noise(k) + 0.02 * h * if k % 2 == 0 { 1.0 } else { -1.0 }));
+            level.record(t, at(noise(k)), &held, &held, &wrong);
+        }
+        for h in [0.4, 1.0, 2.0] {
+            assert_eq!(turn.weights(h)[AZIMUTH], [0.0, 0.0, 0.0, 1.0], "{h}");
+            assert_eq!(level.weights(h)[AZIMUTH], HOLD_ONLY, "{h}");
+        }
+    }
+
+    #[test]
+    fn a_steady_motion_makes_a_trend_the_prior() {
+        let mut check = SelfCheck::new(25.0);
+        assert!(check.weights(0.4).iter().all(|w| *w == HOLD_ONLY));
+        check.set_steady([true; 5]);
+        let w = check.weights(0.4);
+        assert_eq!(w[0], [0.0, 1.0, 0.0, 0.0]); // a walk: the damped trend
+        assert_eq!(w[AZIMUTH], [0.0, 0.0, 0.0, 1.0]); // a steady turn: constant velocity
+        assert_eq!(w[ELEVATION], HOLD_ONLY); // a torso does not keep pitching
+    }
+
+    #[test]
     fn the_convex_minimum_matches_closed_forms() {
         // Two independent predictors of variances 1 and 3: weights 3/4 and 1/4.
         let s = [
@@ -396,7 +488,7 @@ mod tests {
             [0.0, 0.0, 1e9, 0.0],
             [0.0, 0.0, 0.0, 1e9],
         ];
-        let w = convex_min_variance(&s, 0b1111);
+        let w = convex_min_variance(&s, 0b1111, HOLD);
         assert!((w[0] - 0.75).abs() < 1e-6 && (w[1] - 0.25).abs() < 1e-6 && w[2].abs() < 1e-6);
         // A predictor whose error is always larger and positively correlated gets no weight.
         let s = [
@@ -405,7 +497,7 @@ mod tests {
             [0.0, 0.0, 9.0, 0.0],
             [0.0, 0.0, 0.0, 9.0],
         ];
-        let w = convex_min_variance(&s, 0b1111);
+        let w = convex_min_variance(&s, 0b1111, HOLD);
         assert!(w.iter().all(|&v| v >= 0.0) && (w.iter().sum::<f64>() - 1.0).abs() < 1e-12);
         assert!(w[1].abs() < 1e-12, "{w:?}");
     }

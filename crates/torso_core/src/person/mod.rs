@@ -30,6 +30,7 @@ use crate::gating::{JointGate, JointStatus};
 use crate::plane::{fit_torso_plane, shoulder_heading};
 use crate::selfcheck::{SelfCheck, HORIZONS as CHECK_HORIZONS, INTERVAL_80};
 use crate::sides::{nose_direction, Decision, Facing};
+use crate::trend::Trend;
 use crate::vec3::{add, finite, midpoint, sub};
 use crate::{Pose, AZIMUTH, ELEVATION};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
@@ -248,7 +249,7 @@ impl Person {
                     .forecaster
                     .sample(self.forecaster.len() - 1)
                     .expect("not empty");
-                let rate = history_velocity(&self.forecaster);
+                let rate = Trend::of(&self.forecaster).rate;
                 for ((pose, plain), h) in out.iter_mut().zip(plain.iter()).zip(horizons) {
                     let w = check.weights(*h);
                     for c in 0..5 {
@@ -261,7 +262,20 @@ impl Person {
                 }
             }
         }
+        // The forecaster's last sample may be older than the latest estimate (a frame between
+        // two grid slots is not taken): every candidate moves with it, so that holding still
+        // holds the latest estimate.
+        let (sample, _) = self
+            .forecaster
+            .sample(self.forecaster.len() - 1)
+            .expect("not empty");
+        let latest = self.last_pose.unwrap_or(sample);
+        let mut offset: Pose = std::array::from_fn(|c| latest[c] - sample[c]);
+        offset[AZIMUTH] = wrap_angle(offset[AZIMUTH]);
         for pose in out.iter_mut() {
+            for (value, shift) in pose.iter_mut().zip(offset) {
+                *value += shift;
+            }
             pose[AZIMUTH] = wrap_angle(pose[AZIMUTH]);
         }
         Ok(true)
@@ -315,8 +329,10 @@ impl Person {
             .forecast_both(&CHECK_HORIZONS, &mut damped, &mut plain)
             .is_ok()
         {
-            let rate = history_velocity(&self.forecaster);
-            let velocity = CHECK_HORIZONS.map(|h| std::array::from_fn(|c| sample[c] + rate[c] * h));
+            let trend = Trend::of(&self.forecaster);
+            check.set_steady(trend.steady());
+            let velocity =
+                CHECK_HORIZONS.map(|h| std::array::from_fn(|c| sample[c] + trend.rate[c] * h));
             check.record(t, sample, &damped, &plain, &velocity);
         }
     }
@@ -416,19 +432,6 @@ impl Person {
             Estimate::Shoulders,
             0.5 * (weights[0] + weights[1]),
         )
-    }
-}
-
-/// Mean rate of change of every pose component over the forecaster's history (the thesis'
-/// constant-velocity baseline); zero with fewer than two samples.
-fn history_velocity(f: &Forecaster) -> Pose {
-    let n = f.len();
-    match (n >= 2, f.sample(0), f.sample(n.saturating_sub(1))) {
-        (true, Some((first, _)), Some((last, _))) => {
-            let span = (n - 1) as f64 / f.config().rate_hz;
-            std::array::from_fn(|c| (last[c] - first[c]) / span)
-        }
-        _ => [0.0; 5],
     }
 }
 

@@ -1,0 +1,148 @@
+//! The least-squares line through a forecaster's history: the constant-velocity candidate of the
+//! self-check, and the test of a steady motion.
+//!
+//! A person turning on the spot turns the azimuth at a nearly constant rate for seconds, and a
+//! walker moves the centre steadily; a detector's noise on anyone else wanders about a level.
+//! How far a component's fitted rate stands from zero, in standard errors of the fit, tells the
+//! two apart from the history alone, before the self-check has had time to score a single
+//! forecast (a young track is the common case: a person turning round in front of the robot).
+
+use crate::forecaster::Forecaster;
+use crate::Pose;
+
+/// How many standard errors a component's fitted rate must stand from zero for its history to
+/// count as a steady motion (the residuals of a history are correlated, so the ordinary standard
+/// error is small and the bar is high). Chosen on the scenes benchmark's development split
+/// (docs/benchmark.md gives the effect of the rule).
+pub const STEADY: f64 = 10.0;
+
+/// Samples a history needs before its line is fitted (two give a line with no residual).
+const MIN_SAMPLES: usize = 4;
+
+/// The fitted line of every pose component.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Trend {
+    /// Rate of change per second.
+    pub rate: Pose,
+    /// The rate in standard errors of the fit: infinite for a perfect line that moves, zero for
+    /// one that does not, and zero for a history too short to fit.
+    pub significance: Pose,
+}
+
+impl Trend {
+    /// The least-squares line through the samples of `f`'s history against time.
+    ///
+    /// ```
+    /// use torso_core::trend::Trend;
+    /// use torso_core::{Forecaster, ForecasterConfig, AZIMUTH};
+    /// let mut f = Forecaster::new(ForecasterConfig::default()).unwrap();
+    /// for k in 0..20 {
+    ///     let t = k as f64 / 25.0;
+    ///     f.update([1.0, 0.0, 1.0, 0.5 * t, 1.5], t, 1.0).unwrap(); // turning at 0.5 rad/s
+    /// }
+    /// let trend = Trend::of(&f);
+    /// assert!((trend.rate[3] - 0.5).abs() < 1e-9);
+    /// assert!(trend.steady()[AZIMUTH] && !trend.steady()[0] && trend.rate[0] == 0.0);
+    /// ```
+    pub fn of(f: &Forecaster) -> Self {
+        let n = f.len();
+        if n < MIN_SAMPLES {
+            return Self::default();
+        }
+        let sample = |i: usize| f.sample(i).expect("within the history").0;
+        let centre = (n - 1) as f64 / 2.0;
+        let mut mean = [0.0; 5];
+        for i in 0..n {
+            let p = sample(i);
+            for c in 0..5 {
+                mean[c] += p[c] / n as f64;
+            }
+        }
+        let (mut stt, mut sty) = (0.0, [0.0; 5]);
+        for i in 0..n {
+            let (dt, p) = (i as f64 - centre, sample(i));
+            stt += dt * dt;
+            for c in 0..5 {
+                sty[c] += dt * (p[c] - mean[c]);
+            }
+        }
+        let slope: Pose = std::array::from_fn(|c| sty[c] / stt);
+        let mut residual = [0.0; 5];
+        for i in 0..n {
+            let (dt, p) = (i as f64 - centre, sample(i));
+            for c in 0..5 {
+                let r = p[c] - mean[c] - slope[c] * dt;
+                residual[c] += r * r;
+            }
+        }
+        let rate_hz = f.config().rate_hz;
+        Self {
+            rate: slope.map(|s| s * rate_hz),
+            significance: std::array::from_fn(|c| {
+                let error = (residual[c] / (n - 2) as f64 / stt).sqrt();
+                if slope[c] == 0.0 {
+                    0.0
+                } else {
+                    slope[c].abs() / error
+                }
+            }),
+        }
+    }
+
+    /// Per component, whether it moves steadily: its rate [`STEADY`] standard errors from zero.
+    pub fn steady(&self) -> [bool; 5] {
+        self.significance.map(|s| s >= STEADY)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ForecasterConfig;
+
+    fn history(poses: impl Iterator<Item = Pose>) -> Forecaster {
+        let mut f = Forecaster::new(ForecasterConfig::default()).unwrap();
+        for (k, p) in poses.enumerate() {
+            f.update(p, k as f64 / 25.0, 1.0).unwrap();
+        }
+        f
+    }
+
+    #[test]
+    fn the_line_matches_the_closed_form_and_its_significance_the_ordinary_standard_error() {
+        // y = 0.3 t plus +-0.01 alternating: slope and its standard error by the textbook
+        // formulas of simple regression, computed here on the sample index.
+        let ys: Vec<f64> = (0..30)
+            .map(|k| 0.3 * k as f64 / 25.0 + if k % 2 == 0 { 0.01 } else { -0.01 })
+            .collect();
+        let f = history(ys.iter().map(|&y| [0.0, 0.0, 0.0, y, 1.5]));
+        let trend = Trend::of(&f);
+        let n = ys.len() as f64;
+        let xs: Vec<f64> = (0..ys.len()).map(|k| k as f64).collect();
+        let (mx, my) = (xs.iter().sum::<f64>() / n, ys.iter().sum::<f64>() / n);
+        let sxx: f64 = xs.iter().map(|x| (x - mx).powi(2)).sum();
+        let b = xs
+            .iter()
+            .zip(&ys)
+            .map(|(x, y)| (x - mx) * (y - my))
+            .sum::<f64>()
+            / sxx;
+        let sse: f64 = xs
+            .iter()
+            .zip(&ys)
+            .map(|(x, y)| (y - my - b * (x - mx)).powi(2))
+            .sum();
+        let se = (sse / (n - 2.0) / sxx).sqrt();
+        assert!((trend.rate[3] - b * 25.0).abs() < 1e-12);
+        assert!((trend.significance[3] - b / se).abs() < 1e-9 * (b / se));
+        assert_eq!((trend.rate[0], trend.significance[0]), (0.0, 0.0));
+    }
+
+    #[test]
+    fn noise_about_a_level_is_no_steady_turn_and_a_short_history_no_line() {
+        let wander = history((0..50).map(|k| [0.0, 0.0, 0.0, 0.2 * (k as f64 * 0.7).sin(), 1.5]));
+        assert_eq!(Trend::of(&wander).steady(), [false; 5]);
+        let short = history((0..3).map(|k| [0.0, 0.0, 0.0, k as f64, 1.5]));
+        assert_eq!(Trend::of(&short), Trend::default());
+    }
+}
