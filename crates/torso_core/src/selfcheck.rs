@@ -3,22 +3,23 @@
 //! Whether a trend is worth continuing, and for how long, depends on the person and on the
 //! detector: a walker's centre moves steadily and a turning person's heading keeps turning,
 //! while a detector's azimuth noise on a person standing still makes any fitted trend a guess.
-//! Each time the forecaster takes a sample, three predictions for each of [`HORIZONS`] are kept:
-//! holding still, the forecaster's damped trend and the same fit continued without damping.
-//! When their time comes, each is scored against the sample then taken. Per pose component and
-//! horizon (the checked one nearest to the one asked for), the forecast given out is the mix of
-//! the three that would have erred least on the recent scores (the minimum-variance convex weights of correlated predictors, from
-//! forgetting sums of their products of errors): a trend the track's own data do not support
-//! is shrunk towards holding still, a steady one is continued in full.
+//! Each time the forecaster takes a sample, four predictions for each of [`HORIZONS`] are kept:
+//! holding still, the forecaster's damped trend, the same fit continued without damping, and
+//! constant velocity (the least-squares line through the history, [`crate::trend`]). When their
+//! time comes, each is scored against the sample then taken. Per pose component and horizon
+//! (the checked one nearest to the one asked for), the forecast given out is the mix of them
+//! that would have erred least on the recent scores (the minimum-variance convex weights of
+//! correlated predictors, from forgetting sums of their products of errors).
 //!
-//! Each component has a prior candidate, the one it forecasts with before any check and the
-//! one an angle falls back to: holding still, unless the track's history shows the component
-//! moving steadily ([`crate::trend`]): then the centre's damped trend (bodies move with
-//! inertia) and the azimuth's constant velocity (a steady turn). An angle's mix takes another candidate only when that
-//! one's gain over the prior (the difference of their squared errors) is significant: its mean
-//! [`SIGNIFICANCE`] standard errors above zero, counting the scores of one horizon's span as one
-//! (overlapping forecasts err together). A detector's azimuth and elevation noise makes most
-//! fitted angular trends a guess, and a guess that wins a few recent scores by chance would
+//! Each component has a prior candidate, the one it forecasts with before any check: holding
+//! still, unless the track's history shows the component moving steadily: then the centre's
+//! damped trend (bodies move with inertia) and the azimuth's constant velocity (a steady turn),
+//! for horizons no longer than the history it was seen over (a motion is continued at most as
+//! far ahead as it has been seen to last). An angle's mix takes another candidate only when
+//! that one's gain over the prior (the difference of their squared errors) is significant: its
+//! mean [`SIGNIFICANCE`] standard errors above zero, counting the scores of one horizon's span
+//! as one (overlapping forecasts err together). A detector's azimuth and elevation noise makes
+//! most fitted angular trends a guess, and a guess that wins a few recent scores by chance would
 //! otherwise be continued.
 
 use crate::{Pose, AZIMUTH, ELEVATION};
@@ -83,8 +84,10 @@ pub struct SelfCheck {
     /// and its intervals in one frame share them.
     mix: [[[f64; CANDIDATES]; 5]; H],
     fresh: [bool; H],
-    /// Per component, whether the track's history moves steadily ([`crate::trend`]).
+    /// Per component, whether the track's history moves steadily ([`crate::trend`]), and the
+    /// seconds of history it was seen over.
     steady: [bool; 5],
+    seen: f64,
 }
 
 impl SelfCheck {
@@ -99,9 +102,10 @@ impl SelfCheck {
             squares: [[[[0.0; CANDIDATES]; CANDIDATES]; 5]; H],
             scored: [0.0; H],
             last_scored: [None; H],
-            mix: [unchecked([false; 5]); H],
+            mix: [HOLD_ALL; H],
             fresh: [false; H],
             steady: [false; 5],
+            seen: 0.0,
         }
     }
 
@@ -160,18 +164,40 @@ impl SelfCheck {
             // serves; an angle's evidence at a shorter horizon says little of a longer one.
             Some(k) => {
                 let mix = self.mix(k);
-                let prior = unchecked(self.steady);
+                let prior = self.unchecked(nearest);
                 std::array::from_fn(|c| if c < 3 { mix[c] } else { prior[c] })
             }
-            None => unchecked(self.steady),
+            None => self.unchecked(nearest),
+        }
+    }
+
+    /// Every component's prior for checked horizon `k`, as weights.
+    fn unchecked(&self, k: usize) -> [[f64; CANDIDATES]; 5] {
+        std::array::from_fn(|c| {
+            let mut w = [0.0; CANDIDATES];
+            w[self.prior(c, k)] = 1.0;
+            w
+        })
+    }
+
+    /// Component `c`'s prior candidate for checked horizon `k` (see the module's description):
+    /// a steady motion is continued at most as far ahead as it has been seen.
+    fn prior(&self, c: usize, k: usize) -> usize {
+        let steady = self.steady[c] && self.seen >= HORIZONS[k] - 1e-9;
+        match c {
+            0..=2 if steady => DAMPED,
+            AZIMUTH if steady => VELOCITY,
+            _ => HOLD,
         }
     }
 
     /// Tells the check which components of the track's history move steadily
-    /// ([`crate::trend`]): they take a trend as their prior, the others holding still.
-    pub fn set_steady(&mut self, steady: [bool; 5]) {
-        if steady != self.steady {
+    /// ([`crate::trend`]) and how many seconds of history it holds: a steady component takes a
+    /// trend as its prior for horizons up to that long, the others holding still.
+    pub fn set_steady(&mut self, steady: [bool; 5], seen: f64) {
+        if steady != self.steady || seen != self.seen {
             self.steady = steady;
+            self.seen = seen;
             self.fresh = [false; H];
         }
     }
@@ -201,7 +227,7 @@ impl SelfCheck {
             if c < 3 {
                 return convex_min_variance(&self.sums[k][c], allowed(c), HOLD);
             }
-            let p = prior(c, self.steady[c]);
+            let p = self.prior(c, k);
             let significant = (0..CANDIDATES)
                 .filter(|&a| allowed(c) & (1 << a) != 0 && self.significant(k, c, a, p))
                 .fold(1 << p, |set, a| set | (1 << a));
@@ -277,28 +303,14 @@ impl SelfCheck {
         self.scored = [0.0; H];
         self.last_scored = [None; H];
         self.steady = [false; 5];
-        self.mix = [unchecked([false; 5]); H];
+        self.seen = 0.0;
+        self.mix = [HOLD_ALL; H];
         self.fresh = [false; H];
     }
 }
 
-/// A component's prior candidate (see the module's description).
-fn prior(component: usize, steady: bool) -> usize {
-    match component {
-        0..=2 if steady => DAMPED,
-        AZIMUTH if steady => VELOCITY,
-        _ => HOLD,
-    }
-}
-
-/// Every component's prior, as weights.
-fn unchecked(steady: [bool; 5]) -> [[f64; CANDIDATES]; 5] {
-    std::array::from_fn(|c| {
-        let mut w = [0.0; CANDIDATES];
-        w[prior(c, steady[c])] = 1.0;
-        w
-    })
-}
+/// Every component's prior where nothing moves steadily: holding still.
+const HOLD_ALL: [[f64; CANDIDATES]; 5] = [[1.0, 0.0, 0.0, 0.0]; 5];
 
 /// The candidates a component may mix, as a bit set: all four for the centre and the azimuth
 /// (a steady turn); the elevation leaves out constant velocity (a torso does not keep pitching).
@@ -407,7 +419,7 @@ mod tests {
         // Component 0 moves at 1 m/s: the plain trend says so, the damped one says half of it.
         // Component 3 stands still while both trends say it moves at 1 rad/s.
         let mut check = SelfCheck::new(25.0);
-        assert_eq!(check.weights(0.4), unchecked([false; 5]));
+        assert_eq!(check.weights(0.4), HOLD_ALL);
         for k in 0..150 {
             let t = k as f64 / 25.0;
             let sample = [t, 0.0, 1.0, 0.3, 1.5];
@@ -472,11 +484,13 @@ mod tests {
     fn a_steady_motion_makes_a_trend_the_prior() {
         let mut check = SelfCheck::new(25.0);
         assert!(check.weights(0.4).iter().all(|w| *w == HOLD_ONLY));
-        check.set_steady([true; 5]);
+        check.set_steady([true; 5], 1.0);
         let w = check.weights(0.4);
         assert_eq!(w[0], [0.0, 1.0, 0.0, 0.0]); // a walk: the damped trend
         assert_eq!(w[AZIMUTH], [0.0, 0.0, 0.0, 1.0]); // a steady turn: constant velocity
         assert_eq!(w[ELEVATION], HOLD_ONLY); // a torso does not keep pitching
+                                             // Seen for a second: not continued two seconds ahead.
+        assert!(check.weights(2.0).iter().all(|w| *w == HOLD_ONLY));
     }
 
     #[test]

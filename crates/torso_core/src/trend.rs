@@ -27,6 +27,8 @@ pub struct Trend {
     /// The rate in standard errors of the fit: infinite for a perfect line that moves, zero for
     /// one that does not, and zero for a history too short to fit.
     pub significance: Pose,
+    /// Seconds of history the line was fitted to (samples over the grid rate).
+    pub seen: f64,
 }
 
 impl Trend {
@@ -77,6 +79,7 @@ impl Trend {
         }
         let rate_hz = f.config().rate_hz;
         Self {
+            seen: n as f64 / rate_hz,
             rate: slope.map(|s| s * rate_hz),
             significance: std::array::from_fn(|c| {
                 let error = (residual[c] / (n - 2) as f64 / stt).sqrt();

@@ -330,7 +330,7 @@ impl Person {
             .is_ok()
         {
             let trend = Trend::of(&self.forecaster);
-            check.set_steady(trend.steady());
+            check.set_steady(trend.steady(), trend.seen);
             let velocity =
                 CHECK_HORIZONS.map(|h| std::array::from_fn(|c| sample[c] + trend.rate[c] * h));
             check.record(t, sample, &damped, &plain, &velocity);
