@@ -14,8 +14,8 @@
 //! Each component has a prior candidate, the one it forecasts with before any check: holding
 //! still, unless the track's history shows the component moving steadily: then the centre's
 //! damped trend (bodies move with inertia) and the azimuth's constant velocity (a steady turn),
-//! for horizons no longer than the history it was seen over (a motion is continued at most as
-//! far ahead as it has been seen to last). An angle's mix takes another candidate only when
+//! the latter for horizons no longer than the history it was seen over (a walk mostly goes on;
+//! a turn is continued at most as far ahead as it has been seen to last). An angle's mix takes another candidate only when
 //! that one's gain over the prior (the difference of their squared errors) is significant: its
 //! mean [`SIGNIFICANCE`] standard errors above zero, counting the scores of one horizon's span
 //! as one (overlapping forecasts err together). A detector's azimuth and elevation noise makes
@@ -181,9 +181,9 @@ impl SelfCheck {
     }
 
     /// Component `c`'s prior candidate for checked horizon `k` (see the module's description):
-    /// a steady motion is continued at most as far ahead as it has been seen.
+    /// a walk mostly goes on, a turn is continued at most as far ahead as it has been seen.
     fn prior(&self, c: usize, k: usize) -> usize {
-        let steady = self.steady[c] && self.seen >= HORIZONS[k] - 1e-9;
+        let steady = self.steady[c] && (c < 3 || self.seen >= HORIZONS[k] - 1e-9);
         match c {
             0..=2 if steady => DAMPED,
             AZIMUTH if steady => VELOCITY,
@@ -193,7 +193,8 @@ impl SelfCheck {
 
     /// Tells the check which components of the track's history move steadily
     /// ([`crate::trend`]) and how many seconds of history it holds: a steady component takes a
-    /// trend as its prior for horizons up to that long, the others holding still.
+    /// trend as its prior (a steady turn only for horizons up to that long), the others holding
+    /// still.
     pub fn set_steady(&mut self, steady: [bool; 5], seen: f64) {
         if steady != self.steady || seen != self.seen {
             self.steady = steady;
@@ -489,8 +490,9 @@ mod tests {
         assert_eq!(w[0], [0.0, 1.0, 0.0, 0.0]); // a walk: the damped trend
         assert_eq!(w[AZIMUTH], [0.0, 0.0, 0.0, 1.0]); // a steady turn: constant velocity
         assert_eq!(w[ELEVATION], HOLD_ONLY); // a torso does not keep pitching
-                                             // Seen for a second: not continued two seconds ahead.
-        assert!(check.weights(2.0).iter().all(|w| *w == HOLD_ONLY));
+                                             // Seen for a second: the walk is continued two seconds ahead, the turn not.
+        let w = check.weights(2.0);
+        assert_eq!((w[0], w[AZIMUTH]), ([0.0, 1.0, 0.0, 0.0], HOLD_ONLY));
     }
 
     #[test]
