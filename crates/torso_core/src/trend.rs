@@ -8,7 +8,8 @@
 //! forecast (a young track is the common case: a person turning round in front of the robot).
 
 use crate::forecaster::Forecaster;
-use crate::Pose;
+use crate::{Pose, AZIMUTH};
+use std::f64::consts::FRAC_PI_2;
 
 /// How many standard errors a component's fitted rate must stand from zero for its history to
 /// count as a steady motion (the residuals of a history are correlated, so the ordinary standard
@@ -29,6 +30,10 @@ pub struct Trend {
     pub significance: Pose,
     /// Seconds of history the line was fitted to (samples over the grid rate).
     pub seen: f64,
+    /// The azimuth steps by more than a quarter turn between two samples somewhere in the
+    /// history: a front/back flip of the estimate (no one turns that fast in a grid step), whose
+    /// step a line would take for a turn.
+    pub flipped: bool,
 }
 
 impl Trend {
@@ -78,8 +83,11 @@ impl Trend {
             }
         }
         let rate_hz = f.config().rate_hz;
+        let flipped =
+            (1..n).any(|i| (sample(i)[AZIMUTH] - sample(i - 1)[AZIMUTH]).abs() > FRAC_PI_2);
         Self {
             seen: n as f64 / rate_hz,
+            flipped,
             rate: slope.map(|s| s * rate_hz),
             significance: std::array::from_fn(|c| {
                 let error = (residual[c] / (n - 2) as f64 / stt).sqrt();
@@ -92,9 +100,10 @@ impl Trend {
         }
     }
 
-    /// Per component, whether it moves steadily: its rate [`STEADY`] standard errors from zero.
+    /// Per component, whether it moves steadily: its rate [`STEADY`] standard errors from zero
+    /// (for the azimuth, with no flip in the history).
     pub fn steady(&self) -> [bool; 5] {
-        self.significance.map(|s| s >= STEADY)
+        std::array::from_fn(|c| self.significance[c] >= STEADY && !(c == AZIMUTH && self.flipped))
     }
 }
 
@@ -145,6 +154,10 @@ mod tests {
     fn noise_about_a_level_is_no_steady_turn_and_a_short_history_no_line() {
         let wander = history((0..50).map(|k| [0.0, 0.0, 0.0, 0.2 * (k as f64 * 0.7).sin(), 1.5]));
         assert_eq!(Trend::of(&wander).steady(), [false; 5]);
+        // A flip of the estimate halfway: a steep, significant line, but no turn.
+        let flip = history((0..50).map(|k| [0.0, 0.0, 0.0, if k < 25 { 0.0 } else { 3.1 }, 1.5]));
+        let trend = Trend::of(&flip);
+        assert!(trend.significance[AZIMUTH] > STEADY && trend.flipped && !trend.steady()[AZIMUTH]);
         let short = history((0..3).map(|k| [0.0, 0.0, 0.0, k as f64, 1.5]));
         assert_eq!(Trend::of(&short), Trend::default());
     }
