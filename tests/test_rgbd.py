@@ -56,6 +56,32 @@ def test_turntable_azimuth_follows_the_turn_with_the_bundled_movenet():
     check_turntable(*turntable_errors(open_model()), median=6.0, p90=16.0, worst=26.0, back_median=9.0)
 
 
+def test_a_steady_turn_is_forecast_not_held():
+    # The turntable turns about 107 deg/s: holding the heading errs by about 43 degrees 0.4 s
+    # ahead. Measured with the bundled MoveNet: a median error of 7.8 degrees over the 85 frames
+    # whose target instant is in the sequence (issue target: under 10; before the steady-turn
+    # prior, 19.0). The history's steady turn is continued from the track's first second.
+    pipeline = Pipeline(open_model(), (0.4,))
+    frames = list(open_source(shared_path("data", "rgbd", "turntable")))
+    times = np.array([f.time for f in frames])
+    truth = np.array([np.arctan2(f.extra["R"][0, 2], f.extra["R"][0, 0]) + np.pi for f in frames])
+    forecast, held = [], []
+    for frame in frames:
+        result = pipeline(frame)
+        if not result.forecasts:
+            continue
+        d, ahead = next(iter(result.forecasts.items()))
+        person = result.people[d]
+        k = int(np.argmin(abs(times - person.last_time - 0.4)))
+        if abs(times[k] - person.last_time - 0.4) > 0.02:
+            continue
+        forecast.append(abs(np.angle(np.exp(1j * (ahead[0, 3] - truth[k])))))
+        held.append(abs(np.angle(np.exp(1j * (person.observation.pose[3] - truth[k])))))
+    assert len(forecast) > 70
+    assert np.degrees(np.median(forecast)) < 10.0
+    assert np.degrees(np.median(held)) > 35.0
+
+
 def test_run_writes_json_lines_and_overlays(tmp_path, capsys):
     source = shared_path("data", "rgbd", "turntable")
     model = shared_path("models", "yolo11n-pose-320.onnx")

@@ -256,8 +256,14 @@ def test_eval_scenes_quick_runs_and_its_numbers_come_back_for_the_seed(tmp_path,
         "h36m high variance",
         TURNING,
     }
-    # The quick split's last scene is a turning one: its people turn on the spot.
-    assert any(r["group"] == TURNING for r in tables["recovery"]["category"])
+    # The quick split's last scene is a turning one: its people turn on the spot, and their
+    # heading forecast continues the turn (measured: 44.0 / 106.8 degrees at 0.4 / 1 s against
+    # 53.2 / 122.1 held); the other people's elevation, which no one keeps pitching, is held.
+    turning = {r["horizon"]: r for r in tables["forecasts"]["category"] if r["group"] == TURNING}
+    for h in (0.4, 1.0):
+        assert turning[h]["forecast_azimuth_median"] < 0.95 * turning[h]["hold_azimuth_median"]
+    for row in tables["forecasts"]["all"]:
+        assert row["forecast_elevation_median"] == pytest.approx(row["hold_elevation_median"], abs=0.1)
     for name in ("scenes_view_polar.png", "scenes_horizon.png", "scenes_frame.png"):
         assert (tmp_path / "figures" / name).stat().st_size > 5000
     # One scene again from its spec: the same records, number for number.
