@@ -26,7 +26,7 @@ pub struct Trend {
     /// Rate of change per second.
     pub rate: Pose,
     /// The rate in standard errors of the fit: infinite for a perfect line that moves, zero for
-    /// one that does not, and zero for a history too short to fit.
+    /// one that does not (within rounding), and zero for a history too short to fit.
     pub significance: Pose,
     /// Seconds of history the line was fitted to (samples over the grid rate).
     pub seen: f64,
@@ -57,41 +57,37 @@ impl Trend {
             return Self::default();
         }
         let sample = |i: usize| f.sample(i).expect("within the history").0;
+        // One pass, on the sample index centred at zero (so that Σ dt = 0): the line's slope is
+        // Σ dt·y / Σ dt², its residual sum of squares Σ (y - ȳ)² - slope² Σ dt².
         let centre = (n - 1) as f64 / 2.0;
-        let mut mean = [0.0; 5];
-        for i in 0..n {
-            let p = sample(i);
-            for c in 0..5 {
-                mean[c] += p[c] / n as f64;
-            }
-        }
-        let (mut stt, mut sty) = (0.0, [0.0; 5]);
+        let stt = n as f64 * ((n * n) as f64 - 1.0) / 12.0;
+        let (mut sum, mut sty, mut syy) = ([0.0; 5], [0.0; 5], [0.0; 5]);
+        let mut flipped = false;
+        let mut previous = sample(0)[AZIMUTH];
         for i in 0..n {
             let (dt, p) = (i as f64 - centre, sample(i));
-            stt += dt * dt;
             for c in 0..5 {
-                sty[c] += dt * (p[c] - mean[c]);
+                sum[c] += p[c];
+                sty[c] += dt * p[c];
+                syy[c] += p[c] * p[c];
             }
+            flipped |= (p[AZIMUTH] - previous).abs() > FRAC_PI_2;
+            previous = p[AZIMUTH];
         }
         let slope: Pose = std::array::from_fn(|c| sty[c] / stt);
-        let mut residual = [0.0; 5];
-        for i in 0..n {
-            let (dt, p) = (i as f64 - centre, sample(i));
-            for c in 0..5 {
-                let r = p[c] - mean[c] - slope[c] * dt;
-                residual[c] += r * r;
-            }
-        }
+        let residual: Pose = std::array::from_fn(|c| {
+            (syy[c] - sum[c] * sum[c] / n as f64 - slope[c] * slope[c] * stt).max(0.0)
+        });
         let rate_hz = f.config().rate_hz;
-        let flipped =
-            (1..n).any(|i| (sample(i)[AZIMUTH] - sample(i - 1)[AZIMUTH]).abs() > FRAC_PI_2);
         Self {
             seen: n as f64 / rate_hz,
             flipped,
             rate: slope.map(|s| s * rate_hz),
             significance: std::array::from_fn(|c| {
                 let error = (residual[c] / (n - 2) as f64 / stt).sqrt();
-                if slope[c] == 0.0 {
+                // A change over the history within rounding of the values is no motion.
+                let level = (sum[c] / n as f64).abs();
+                if slope[c].abs() * n as f64 <= 1e-12 * (1.0 + level) {
                     0.0
                 } else {
                     slope[c].abs() / error
@@ -148,6 +144,9 @@ mod tests {
         assert!((trend.rate[3] - b * 25.0).abs() < 1e-12);
         assert!((trend.significance[3] - b / se).abs() < 1e-9 * (b / se));
         assert_eq!((trend.rate[0], trend.significance[0]), (0.0, 0.0));
+        // A level that is not a binary fraction: no motion, whatever the rounding.
+        let level = history((0..37).map(|_| [0.3, 1.1, 0.7, 2.9, 1.3]));
+        assert_eq!(Trend::of(&level).significance, [0.0; 5]);
     }
 
     #[test]

@@ -81,6 +81,8 @@ pub struct Person {
     widths: [Option<f64>; 2],
     facing: Facing,
     check: Option<SelfCheck>,
+    /// The line through the forecaster's history, while the history is as it was fitted to.
+    trend: Option<Trend>,
     /// Room for the plain continuation of [`Person::forecast`]'s horizons.
     scratch: [Pose; MAX_HORIZONS],
 }
@@ -102,6 +104,7 @@ impl Person {
             check: config
                 .self_check
                 .then(|| SelfCheck::new(config.forecaster.rate_hz)),
+            trend: None,
             scratch: [[0.0; 5]; MAX_HORIZONS],
         })
     }
@@ -122,6 +125,7 @@ impl Person {
         self.last_pose = None;
         self.widths = [None; 2];
         self.facing = Facing::default();
+        self.trend = None;
         if let Some(check) = self.check.as_mut() {
             check.reset();
         }
@@ -249,7 +253,10 @@ impl Person {
                     .forecaster
                     .sample(self.forecaster.len() - 1)
                     .expect("not empty");
-                let rate = Trend::of(&self.forecaster).rate;
+                let rate = self
+                    .trend
+                    .unwrap_or_else(|| Trend::of(&self.forecaster))
+                    .rate;
                 for ((pose, plain), h) in out.iter_mut().zip(plain.iter()).zip(horizons) {
                     let w = check.weights(*h);
                     for c in 0..5 {
@@ -322,6 +329,8 @@ impl Person {
         else {
             return;
         };
+        let trend = Trend::of(&self.forecaster);
+        self.trend = Some(trend);
         let (mut damped, mut plain) = ([[0.0; 5]; 3], [[0.0; 5]; 3]);
         // Too short a history (or any refusal) leaves nothing to record this time.
         if self
@@ -329,7 +338,6 @@ impl Person {
             .forecast_both(&CHECK_HORIZONS, &mut damped, &mut plain)
             .is_ok()
         {
-            let trend = Trend::of(&self.forecaster);
             check.set_steady(trend.steady(), trend.seen);
             let velocity =
                 CHECK_HORIZONS.map(|h| std::array::from_fn(|c| sample[c] + trend.rate[c] * h));
@@ -352,6 +360,7 @@ impl Person {
             pose[ELEVATION] = PI - pose[ELEVATION];
         }
         self.forecaster.flip();
+        self.trend = None;
         if let Some(check) = self.check.as_mut() {
             check.drop_pending();
         }
