@@ -5,9 +5,10 @@ import json
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
+from conftest import shared_path
 from torsocast.cli import main
 
 
@@ -180,3 +181,77 @@ def test_demo_on_a_clip_it_cannot_read_says_one_line_and_exits_2(tmp_path, capsy
     assert main(["demo", "--clip", str(clip), "--out", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("torsocast demo:")
+
+
+def _run_quietly(argv):
+    """``main(argv)``'s exit code and what it wrote to stderr; argparse's refusals count as exits."""
+    import contextlib
+    import io
+
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            code = main(argv)
+        except SystemExit as e:
+            code = e.code
+    return code, err.getvalue()
+
+
+@settings(max_examples=60, deadline=None, derandomize=True)
+@given(
+    windows=st.one_of(
+        st.integers(max_value=0).map(str),
+        st.integers(min_value=100_001, max_value=10**30).map(str),
+        st.text(max_size=10),
+    )
+)
+def test_bench_on_any_window_count_it_cannot_use_says_one_line_and_exits_2(windows):
+    # 10**20 windows ended in numpy's "Maximum allowed dimension exceeded" traceback, and a
+    # billion would have filled the memory: the count is bounded.
+    code, err = _run_quietly(["bench", "--windows", windows])
+    assert code == 2 and err.strip() and "Traceback" not in err
+
+
+@settings(max_examples=30, deadline=None, derandomize=True)
+@given(
+    split=st.sampled_from(["report", "dev", "nonsense"]),
+    seed=st.one_of(st.integers(min_value=-(10**25), max_value=10**25).map(str), st.text(max_size=6)),
+    scenes=st.sampled_from(["1", "0", "-4", "10001", "10" * 12, "one"]),
+    folders=st.fixed_dictionaries(
+        {
+            option: st.sampled_from(["missing", "a file", "given"])
+            for option in ("--cmu", "--h36m", "--yolo", "--cache", "--out")
+        }
+    ),
+)
+@example(
+    split="report",
+    seed="0",
+    scenes="1",
+    folders=dict.fromkeys(("--cmu", "--h36m", "--yolo", "--cache", "--out"), "given"),
+)  # one that runs a scene
+def test_eval_scenes_on_any_arguments_runs_or_says_one_line_and_exits_2(split, seed, scenes, folders):
+    # A negative seed (numpy's "expected non-negative integer"), and --out or --cache naming a
+    # file (FileExistsError, --out only after the whole run) ended in tracebacks.
+    import tempfile
+    from pathlib import Path
+
+    found = {
+        "--cmu": shared_path("data", "cmu"),
+        "--h36m": shared_path("data", "h36m"),
+        "--yolo": shared_path("models", "yolo11n-pose.onnx"),
+    }
+    with tempfile.TemporaryDirectory() as tmp:
+        (Path(tmp) / "file").write_text("not a folder, not a model")
+        argv = ["eval", "scenes", "--quick", "--split", split, "--seed", seed, "--scenes", scenes]
+        for option, kind in folders.items():
+            place = {"missing": f"{tmp}/missing", "a file": f"{tmp}/file"}.get(kind)
+            argv += [option, str(place or found.get(option) or f"{tmp}/{option[2:]}")]
+        code, err = _run_quietly(argv)
+        written = (Path(argv[argv.index("--out") + 1]) / "report.md").is_file()
+    assert code in (0, 2), err
+    assert "Traceback" not in err
+    assert written == (code == 0)  # a run writes its report; a refusal says why, in one line
+    if code == 2:  # (or argparse's usage and its one line of error)
+        lines = err.strip().splitlines()
+        assert len(lines) == 1 or (lines[0].startswith("usage:") and "error:" in lines[-1]), err

@@ -13,12 +13,18 @@ import numpy as np
 from . import COMPONENTS, MAX_DEGREE, Forecaster, ForecasterConfig, TorsocastError, __version__, wrap_angle
 from ._core import MAX_HORIZON
 
+#: Bounds on the sizes a caller gives (the batch timing's windows hold 2 KB each; a scene takes
+#: seconds to render).
+MAX_WINDOWS = 100_000
+MAX_SCENES = 10_000
+
 
 def _bench(args: argparse.Namespace) -> int:
     from .bench import measure, report
 
-    if args.windows < 1:
-        print(f"--windows: expected a positive number of windows, got {args.windows}", file=sys.stderr)
+    if not 1 <= args.windows <= MAX_WINDOWS:
+        expected = f"expected a positive number of windows up to {MAX_WINDOWS}"
+        print(f"--windows: {expected}, got {args.windows}", file=sys.stderr)
         return 2
     print(f"torsocast {__version__}: forecast latency on this machine ({args.windows} windows for the batch)")
     print(report(measure(args.windows)))
@@ -110,6 +116,8 @@ def _eval_h36m(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
         return 2
+    if _out_folder(args.out) is None:
+        return 2
     methods = method_configs()
     progress = Progress(files + len(methods), f"eval h36m ({args.protocol})")
     try:
@@ -136,10 +144,17 @@ def _eval_scenes(args: argparse.Namespace) -> int:
     yolo = args.yolo or os.environ.get(YOLO_ENV)
     size = QUICK if args.quick else FULL
     if args.scenes is not None:
-        if args.scenes < 1:
-            print(f"--scenes: expected a positive number, got {args.scenes}", file=sys.stderr)
+        if not 1 <= args.scenes <= MAX_SCENES:
+            expected = f"expected a positive number up to {MAX_SCENES}"
+            print(f"--scenes: {expected}, got {args.scenes}", file=sys.stderr)
             return 2
         size = size.scaled(args.scenes)
+    if args.seed < 0:
+        print(f"--seed: expected a number >= 0, got {args.seed}", file=sys.stderr)
+        return 2
+    # Said now, not after the whole run.
+    if _out_folder(args.out) is None or (args.cache and _out_folder(args.cache, "--cache") is None):
+        return 2
     try:
         catalogue = Catalogue.find(args.split, cmu_root, h36m_root)
         models = Models.open(yolo)
@@ -234,13 +249,13 @@ def _horizons(text: str, positive: bool = True) -> list[float] | None:
     return horizons
 
 
-def _out_folder(path: str) -> Path | None:
-    """The output folder, made if missing, or None after saying why it cannot be."""
+def _out_folder(path: str, option: str = "--out") -> Path | None:
+    """The folder ``option`` names, made if missing, or None after saying why it cannot be."""
     out = Path(path)
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as e:
-        print(f"--out: cannot use {out} as the output folder: {e.strerror or e}", file=sys.stderr)
+        print(f"{option}: cannot use {out} as the output folder: {e.strerror or e}", file=sys.stderr)
         return None
     return out
 
@@ -325,7 +340,11 @@ def main(argv: list[str] | None = None) -> int:
     sc.add_argument(
         "--seed", type=int, default=0, help="draws the scenes: the same seed gives the same report"
     )
-    sc.add_argument("--scenes", type=int, help="number of scenes (default: 8 with --quick, else 100)")
+    sc.add_argument(
+        "--scenes",
+        type=int,
+        help="number of scenes (default: 8 with --quick, else 100), and turning scenes in proportion",
+    )
     sc.add_argument(
         "--out", default="eval_scenes", help="folder for report.md/.json, the records and figures"
     )
