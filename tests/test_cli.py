@@ -255,3 +255,34 @@ def test_eval_scenes_on_any_arguments_runs_or_says_one_line_and_exits_2(split, s
     if code == 2:  # (or argparse's usage and its one line of error)
         lines = err.strip().splitlines()
         assert len(lines) == 1 or (lines[0].startswith("usage:") and "error:" in lines[-1]), err
+
+
+@settings(max_examples=20, deadline=None, derandomize=True)
+@given(
+    clip=st.sampled_from(["test_walking_1", "train_walking_9", "", "FILE", "MISSING"]),
+    model=st.sampled_from([None, "FILE", "MISSING"]),
+    horizons=st.one_of(
+        st.sampled_from(["0.4", "0.4,1", "0", "-1", "nan", "inf", "1e9", ",", ""]),
+        st.text(alphabet="0123456789.,-e naif", max_size=8),
+    ),
+    out=st.sampled_from(["fresh", "FILE"]),
+)
+@example(clip="test_walking_1", model=None, horizons="0.4,1", out="fresh")  # one that runs
+def test_demo_on_any_arguments_runs_or_says_one_line_and_exits_2(clip, model, horizons, out):
+    import tempfile
+    from pathlib import Path
+
+    with tempfile.TemporaryDirectory() as tmp:
+        (Path(tmp) / "FILE").write_text("neither a clip, a model nor a folder")
+        place = {"FILE": f"{tmp}/FILE", "MISSING": f"{tmp}/missing", "fresh": f"{tmp}/out"}
+        argv = ["demo", "--clip", place.get(clip, clip), "--horizons", horizons, "--out", place[out]]
+        if model is not None:
+            argv += ["--model", place[model]]
+        code, err = _run_quietly(argv)
+        written = (Path(place[out]) / "frames.jsonl").is_file()
+    assert code in (0, 2), err
+    assert "Traceback" not in err
+    assert written == (code == 0)
+    if code == 2:
+        lines = err.strip().splitlines()
+        assert len(lines) == 1 or (lines[0].startswith("usage:") and "error:" in lines[-1]), err

@@ -380,3 +380,25 @@ def test_a_joint_too_far_to_be_a_body_is_missing_not_a_pose_the_forecaster_refus
     with pytest.raises(tc.InvalidArgumentError, match="camera_position"):
         tracker.update(0.44, joints[None], scores[None], [1e308, 0.0, 0.0])
     assert tracker.last_time == 0.4
+
+
+def test_a_keypoint_off_the_image_is_never_lifted():
+    # A keypoint model guesses joints out of view (a person cut by the image edge) with pixel
+    # coordinates outside the image and sometimes a high score: the JSON output gives them as the
+    # model did, and no 3D joint is made of them (the depth window is off the image).
+    from torsocast.tracker import Tracker, TrackerConfig
+
+    depth = np.full((240, 320), 2.5, dtype=np.float32)
+    keypoints = np.zeros((1, 17, 3))
+    keypoints[0, :, 0] = 100 + 5 * np.arange(17)
+    keypoints[0, :, 1] = 40 + 9 * np.arange(17)
+    keypoints[0, :, 2] = 0.9
+    keypoints[0, 3] = (-40.0, 100.0, 0.95)  # left of the image
+    keypoints[0, 4] = (330.0, 100.0, 0.95)  # right of it
+    keypoints[0, 5] = (100.0, 250.0, 0.95)  # below it
+    camera_to_world = np.eye(4)
+    joints, _ = Tracker(TrackerConfig()).step(
+        0.0, keypoints, depth, (300.0, 300.0, 160.0, 120.0), (0.0,) * 5, camera_to_world
+    )
+    lifted = np.isfinite(joints[0]).all(axis=1)
+    assert not lifted[[3, 4, 5]].any() and lifted[[0, 1, 2, 6, 7]].all()
