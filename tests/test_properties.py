@@ -435,3 +435,74 @@ def test_eval_h36m_on_any_file_content_exits_0_or_2(tmp_path_factory, rows, subj
         except SystemExit as e:  # argparse refusing an option
             code = e.code
     assert code in (0, 2), err.getvalue()
+
+
+@SETTINGS
+@given(values=st.lists(ANY_FLOAT, min_size=1, max_size=12), which=st.integers(0, 11))
+def test_the_stateful_filters_take_any_value_whole_or_refuse_it_whole(values, which):
+    # LowPass.step and JointGate.update keep state: a refused value leaves it as it was (the
+    # filter then answers as a twin that was never given it).
+    lp, twin = tc.LowPass(), tc.LowPass()
+    for v in (0.1, 0.2, 0.15):
+        lp.step(v)
+        twin.step(v)
+    for v in values:
+        try:
+            out = lp.step(v)
+        except tc.TorsocastError:
+            continue
+        assert np.isfinite(out) and out == twin.step(v)
+    assert lp.step(0.3) == twin.step(0.3)
+    gate = tc.JointGate(4)
+    gate.update(np.zeros((4, 3)))
+    joints = np.zeros((4, 3))
+    joints.flat[which] = values[0]
+    twin = tc.JointGate(4)
+    twin.update(np.zeros((4, 3)))
+    try:
+        out, status = gate.update(joints)
+    except tc.TorsocastError:
+        out, status = None, None
+    # Whatever this frame did, the gate's next answer is that of a gate given it or refused it.
+    follow = np.full((4, 3), 0.01)
+    if out is None:
+        np.testing.assert_array_equal(gate.update(follow)[0], twin.update(follow)[0])
+    else:
+        assert status.shape == (4,)
+        assert np.isfinite(out).all() or np.isnan(out).any()  # a joint kept, replaced or missing
+
+
+@SETTINGS
+@given(
+    windows=st.lists(st.lists(ANY_FLOAT, min_size=5, max_size=5), min_size=50, max_size=50),
+    horizons=st.lists(ANY_FLOAT, min_size=1, max_size=3),
+)
+def test_forecast_batch_is_finite_or_a_typed_error(windows, horizons):
+    try:
+        out = tc.forecast_batch(np.array([windows]), horizons)
+    except tc.TorsocastError:
+        return
+    assert out.shape == (1, len(horizons), 5) and np.isfinite(out).all()
+
+
+@SETTINGS
+@given(
+    joints=st.lists(st.lists(ANY_FLOAT, min_size=3, max_size=3), min_size=4, max_size=4),
+    ys=st.lists(ANY_FLOAT, min_size=6, max_size=6),
+    lam=ANY_FLOAT,
+)
+def test_batch_plane_fits_and_smoothing_splines_are_finite_or_typed_errors(joints, ys, lam):
+    try:
+        planes = tc.fit_planes(np.array([joints]), "LRLR")
+    except tc.TorsocastError:
+        planes = None
+    if planes is not None:  # a frame that cannot be fitted is NaN in its row, said by `status`
+        fitted = planes["status"] == 0
+        for key in ("centre", "normal", "azimuth", "elevation", "rms_residual"):
+            assert np.isfinite(planes[key][fitted]).all()
+            assert np.isnan(planes[key][~fitted]).all()
+    try:
+        coefficients, knots = tc.fit_smoothing_spline(np.arange(6.0), np.array(ys), lam=lam)
+    except tc.TorsocastError:
+        return
+    assert np.isfinite(coefficients).all() and np.isfinite(knots).all()

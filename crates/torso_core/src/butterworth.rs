@@ -411,13 +411,19 @@ pub const MAX_SAMPLE: f64 = 1e300;
 
 /// Refuses a window with a NaN, infinite or overflowing sample, naming the first.
 fn check_finite(x: &[f64]) -> Result<()> {
+    check_samples("x", x)
+}
+
+/// Refuses samples `name` with a NaN, infinite or overflowing value (beyond ±[`MAX_SAMPLE`]),
+/// naming the first: the filters and the spline fit take the same data.
+pub(crate) fn check_samples(name: &'static str, x: &[f64]) -> Result<()> {
     match x.iter().position(|v| !(v.abs() <= MAX_SAMPLE)) {
         Some(index) if x[index].is_finite() => Err(Error::InvalidArgument {
-            name: "x",
+            name,
             expected: "samples within ±MAX_SAMPLE (1e300)",
             value: x[index],
         }),
-        Some(index) => Err(Error::NonFinite { name: "x", index }),
+        Some(index) => Err(Error::NonFinite { name, index }),
         None => Ok(()),
     }
 }

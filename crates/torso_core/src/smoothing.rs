@@ -12,6 +12,7 @@
 
 use crate::banded::{self, by_width};
 use crate::bspline::{self, MAX_DEGREE};
+use crate::butterworth::check_samples;
 use crate::error::{check_len, check_weights, Error, Result};
 
 /// A reusable fitting workspace for up to `capacity` samples at one degree. All buffers are sized
@@ -139,9 +140,7 @@ impl SmoothingSpline {
                 got: ys.len(),
             });
         }
-        if let Some(index) = ys.iter().position(|v| !v.is_finite()) {
-            return Err(Error::NonFinite { name: "y", index });
-        }
+        check_samples("y", ys)?;
         let (p, k, m) = (self.degree, ys.len() / n, self.coefficient_count());
         check_len("coeffs", coeffs.len(), k * m)?;
         self.factor_normal_matrix(weights, lam)?;
@@ -162,6 +161,14 @@ impl SmoothingSpline {
             }
         }
         banded::solve_many(&self.band, m, p, coeffs, k);
+        // Samples within ±MAX_SAMPLE with weights and λ large enough can still overflow the
+        // normal equations: said, not given out as a fit.
+        if let Some(index) = coeffs.iter().position(|c| !c.is_finite()) {
+            return Err(Error::NonFinite {
+                name: "coefficients (the fit overflowed: weights or y too large)",
+                index,
+            });
+        }
         Ok(())
     }
 
