@@ -11,6 +11,13 @@ import torsocast as tc
 
 #: Floats as a hostile caller sends them: NaN, infinities, huge and tiny magnitudes included.
 ANY_FLOAT = st.floats(allow_nan=True, allow_infinity=True, width=64)
+
+
+def any_points(least, most=None):
+    """Lists of ``least`` to ``most`` (default: exactly ``least``) 3D points of any floats."""
+    return st.lists(st.lists(ANY_FLOAT, min_size=3, max_size=3), min_size=least, max_size=most or least)
+
+
 SETTINGS = settings(
     max_examples=150, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow]
 )
@@ -50,7 +57,7 @@ def test_a_forecast_is_finite_or_a_typed_error(horizons):
 
 @SETTINGS
 @given(
-    joints=st.lists(st.lists(ANY_FLOAT, min_size=3, max_size=3), min_size=17, max_size=17),
+    joints=any_points(17),
     scores=st.lists(ANY_FLOAT, min_size=17, max_size=17),
     t=ANY_FLOAT,
 )
@@ -96,7 +103,7 @@ def test_an_assignment_is_one_to_one_and_optimal_or_a_typed_error(cost):
 
 
 @SETTINGS
-@given(points=st.lists(st.lists(ANY_FLOAT, min_size=3, max_size=3), min_size=1, max_size=6))
+@given(points=any_points(1, 6))
 def test_a_plane_fit_is_finite_or_a_typed_error(points):
     sides = "LRLRCC"[: len(points)]
     try:
@@ -132,9 +139,7 @@ def _walkers(tracker, frames=20):
 
 @SETTINGS
 @given(
-    joints=st.lists(
-        st.lists(st.lists(ANY_FLOAT, min_size=3, max_size=3), min_size=17, max_size=17), max_size=3
-    ),
+    joints=st.lists(any_points(17), max_size=3),
     score=ANY_FLOAT,
     t=ANY_FLOAT,
     camera=st.lists(ANY_FLOAT, min_size=3, max_size=3),
@@ -487,7 +492,7 @@ def test_forecast_batch_is_finite_or_a_typed_error(windows, horizons):
 
 @SETTINGS
 @given(
-    joints=st.lists(st.lists(ANY_FLOAT, min_size=3, max_size=3), min_size=4, max_size=4),
+    joints=any_points(4),
     ys=st.lists(ANY_FLOAT, min_size=6, max_size=6),
     lam=ANY_FLOAT,
 )
