@@ -238,8 +238,9 @@ class Person:
         """One frame: ``joints (17, 3)`` in the world frame (NaN where missing), their
         ``scores`` and where the camera is. A refused frame raises and changes nothing."""
     def forecast(self, horizons: Sequence[float]) -> _F64 | None:
-        """``(len(horizons), 5)`` poses ahead of the last grid sample, azimuth wrapped; None
-        until the history holds enough samples."""
+        """``(len(horizons), 5)`` poses ``horizons`` seconds after the last grid sample, moved
+        with the latest estimate (so that holding still holds it), azimuth wrapped; None until
+        the history holds enough samples."""
     def intervals(self, horizons: Sequence[float]) -> _F64 | None:
         """``(len(horizons), 5)`` half-widths of the central 80 % intervals around
         :meth:`forecast`; None until the track has checked a forecast."""

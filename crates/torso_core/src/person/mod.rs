@@ -234,8 +234,9 @@ impl Person {
     }
 
     /// Forecasts `horizons[h]` seconds after the forecaster's last grid sample into `out[h]`,
-    /// azimuth wrapped to (-π, π]. `Ok(false)` (and `out` untouched) until the history holds
-    /// enough samples.
+    /// moved with the latest estimate (a frame between two grid slots is not taken, and holding
+    /// still holds the latest estimate), azimuth wrapped to (-π, π]. `Ok(false)` (and `out`
+    /// untouched) until the history holds enough samples.
     pub fn forecast(&mut self, horizons: &[f64], out: &mut [Pose]) -> Result<bool> {
         if self.forecaster.len() < self.forecaster.min_samples() {
             return Ok(false);
