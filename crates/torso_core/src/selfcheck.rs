@@ -15,12 +15,13 @@
 //! still, unless the track's history shows the component moving steadily: then the centre's
 //! damped trend (bodies move with inertia) and the azimuth's constant velocity (a steady turn),
 //! the latter for horizons no longer than the history it was seen over (a walk mostly goes on;
-//! a turn is continued at most as far ahead as it has been seen to last). An angle's mix takes another candidate only when
-//! that one's gain over the prior (the difference of their squared errors) is significant: its
-//! mean [`SIGNIFICANCE`] standard errors above zero, counting the scores of one horizon's span
-//! as one (overlapping forecasts err together). A detector's azimuth and elevation noise makes
-//! most fitted angular trends a guess, and a guess that wins a few recent scores by chance would
-//! otherwise be continued.
+//! a turn is continued at most as far ahead as it has been seen to last). A component's mix
+//! takes another candidate than its prior only when that one's gain over the prior (the
+//! difference of their squared errors) is significant: its mean [`SIGNIFICANCE`] standard
+//! errors above zero, counting the scores of one horizon's span as one (overlapping forecasts
+//! err together). A detector's noise makes most fitted trends of an angle, or of a person who
+//! stays in place, a guess, and a guess that wins a few recent scores by chance would otherwise
+//! be continued. The centre of a steady walk is the exception: it mixes its trends freely.
 
 use crate::{Pose, AZIMUTH, ELEVATION};
 
@@ -28,8 +29,8 @@ use crate::{Pose, AZIMUTH, ELEVATION};
 const MEMORY: f64 = 2.0;
 /// Predictions scored before the mix is trusted.
 const MIN_SCORED: f64 = 3.0;
-/// Standard errors by which an angle candidate's mean gain over the prior must exceed zero to
-/// enter the mix. Chosen on the scenes benchmark's development split (docs/benchmark.md).
+/// Standard errors by which a candidate's mean gain over the prior must exceed zero to enter
+/// the mix. Chosen on the scenes benchmark's development split (docs/benchmark.md).
 pub const SIGNIFICANCE: f64 = 2.0;
 const HOLD: usize = 0;
 const DAMPED: usize = 1;
@@ -225,7 +226,8 @@ impl SelfCheck {
 
     fn solve(&self, k: usize) -> [[f64; CANDIDATES]; 5] {
         std::array::from_fn(|c| {
-            if c < 3 {
+            // A walk's centre mixes its trends freely: gated, the walkers' forecasts came late.
+            if c < 3 && self.steady[c] {
                 return convex_min_variance(&self.sums[k][c], allowed(c), HOLD);
             }
             let p = self.prior(c, k);
