@@ -310,7 +310,7 @@ impl Person {
         }
         for (h, o) in horizons.iter().zip(out.iter_mut()) {
             let spread = check.spread(*h).expect("has_spread said so");
-            *o = spread.map(|v| INTERVAL_80 * v);
+            *o = std::array::from_fn(|c| INTERVAL_80[c] * spread[c]);
         }
         Ok(true)
     }
