@@ -12,10 +12,10 @@
 //! correlated predictors, from forgetting sums of their products of errors).
 //!
 //! Each component has a prior candidate, the one it forecasts with before any check: holding
-//! still, unless the track's history shows the component moving steadily: then the centre's
-//! damped trend (bodies move with inertia) and the azimuth's constant velocity (a steady turn),
-//! the latter for horizons no longer than the history it was seen over (a walk mostly goes on;
-//! a turn is continued at most as far ahead as it has been seen to last). A component's mix
+//! still, unless the track's history shows the component moving steadily: then constant
+//! velocity (a walk, a steady turn), for the azimuth only for horizons no longer than the
+//! history it was seen over (a walk mostly goes on; a turn is continued at most as far ahead as
+//! it has been seen to last). A component's mix
 //! takes another candidate than its prior only when that one's gain over the prior (the
 //! difference of their squared errors) is significant: its mean [`SIGNIFICANCE`] standard
 //! errors above zero, counting the scores of one horizon's span as one (overlapping forecasts
@@ -33,7 +33,6 @@ const MIN_SCORED: f64 = 3.0;
 /// the mix. Chosen on the scenes benchmark's development split (docs/benchmark.md).
 pub const SIGNIFICANCE: f64 = 2.0;
 const HOLD: usize = 0;
-const DAMPED: usize = 1;
 const VELOCITY: usize = 3;
 /// Half-width of a central 80 % interval in units of [`SelfCheck::spread`], per pose component.
 /// A normal error would need 1.28; forecast errors against the truth have heavier tails and
@@ -187,7 +186,7 @@ impl SelfCheck {
     fn prior(&self, c: usize, k: usize) -> usize {
         let steady = self.steady[c] && (c < 3 || self.seen >= HORIZONS[k] - 1e-9);
         match c {
-            0..=2 if steady => DAMPED,
+            0..=2 if steady => VELOCITY,
             AZIMUTH if steady => VELOCITY,
             _ => HOLD,
         }
@@ -490,12 +489,12 @@ mod tests {
         assert!(check.weights(0.4).iter().all(|w| *w == HOLD_ONLY));
         check.set_steady([true; 5], 1.0);
         let w = check.weights(0.4);
-        assert_eq!(w[0], [0.0, 1.0, 0.0, 0.0]); // a walk: the damped trend
-        assert_eq!(w[AZIMUTH], [0.0, 0.0, 0.0, 1.0]); // a steady turn: constant velocity
+        assert_eq!(w[0], [0.0, 0.0, 0.0, 1.0]); // a walk: constant velocity
+        assert_eq!(w[AZIMUTH], [0.0, 0.0, 0.0, 1.0]); // a steady turn too
         assert_eq!(w[ELEVATION], HOLD_ONLY); // a torso does not keep pitching
                                              // Seen for a second: the walk is continued two seconds ahead, the turn not.
         let w = check.weights(2.0);
-        assert_eq!((w[0], w[AZIMUTH]), ([0.0, 1.0, 0.0, 0.0], HOLD_ONLY));
+        assert_eq!((w[0], w[AZIMUTH]), ([0.0, 0.0, 0.0, 1.0], HOLD_ONLY));
     }
 
     #[test]
