@@ -44,6 +44,23 @@ def h36m_root():
     return H36M
 
 
+def run_cli(argv):
+    """``torsocast argv`` in this process: its exit code (argparse's refusals count as exits), and
+    what it wrote to stdout and to stderr."""
+    import contextlib
+    import io
+
+    from torsocast.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            code = main(argv)
+        except SystemExit as e:
+            code = e.code
+    return code, out.getvalue(), err.getvalue()
+
+
 def shared_path(*parts):
     """A file or folder of ../shared, or a skip that says what is missing and why."""
     path = SHARED.joinpath(*parts)

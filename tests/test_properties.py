@@ -8,6 +8,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import torsocast as tc
+from conftest import run_cli
 
 #: Floats as a hostile caller sends them: NaN, infinities, huge and tiny magnitudes included.
 ANY_FLOAT = st.floats(allow_nan=True, allow_infinity=True, width=64)
@@ -373,11 +374,6 @@ _HOSTILE_ARRAYS = st.one_of(
 )
 def test_run_on_a_recording_with_any_calibration_arrays_exits_0_or_2(tmp_path_factory, key, value):
     # Never a traceback: a recording whose arrays cannot describe a camera is one line and exit 2.
-    import contextlib
-    import io
-
-    from torsocast.cli import main
-
     folder = tmp_path_factory.mktemp("recording")
     arrays = {
         "color": np.zeros((2, 24, 32, 3), np.uint8),
@@ -387,12 +383,10 @@ def test_run_on_a_recording_with_any_calibration_arrays_exits_0_or_2(tmp_path_fa
     }
     arrays[key] = value
     np.savez(folder / "rec.npz", **arrays)
-    err = io.StringIO()
-    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
-        code = main(["run", str(folder / "rec.npz"), "--out", str(folder / "out")])
+    code, _, err = run_cli(["run", str(folder / "rec.npz"), "--out", str(folder / "out")])
     assert code in (0, 2)
     if code == 2:
-        assert len(err.getvalue().strip().splitlines()) == 1, err.getvalue()
+        assert len(err.strip().splitlines()) == 1, err
 
 
 @SETTINGS
@@ -402,18 +396,11 @@ def test_run_on_a_recording_with_any_calibration_arrays_exits_0_or_2(tmp_path_fa
 )
 def test_run_on_a_tum_folder_with_any_lists_exits_0_or_2(tmp_path_factory, rgb, depth):
     # Never a traceback: lists that pair nothing, or lines that do not parse, are one line, exit 2.
-    import contextlib
-    import io
-
-    from torsocast.cli import main
-
     folder = tmp_path_factory.mktemp("tum")
     (folder / "rgb.txt").write_text("\n".join(["0.0 rgb/0.png", *rgb]))
     (folder / "depth.txt").write_text("\n".join(["0.0 depth/0.png", *depth]))
-    err = io.StringIO()
-    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
-        code = main(["run", str(folder), "--out", str(folder / "out")])
-    assert code in (0, 2), err.getvalue()
+    code, _, err = run_cli(["run", str(folder), "--out", str(folder / "out")])
+    assert code in (0, 2), err
 
 
 @settings(max_examples=40, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
@@ -423,23 +410,13 @@ def test_run_on_a_tum_folder_with_any_lists_exits_0_or_2(tmp_path_factory, rgb, 
 )
 def test_eval_h36m_on_any_file_content_exits_0_or_2(tmp_path_factory, rows, subjects):
     # Never a traceback: a file it cannot use is left out and named, a bad option is one line.
-    import contextlib
-    import io
-
-    from torsocast.cli import main
-
     root = tmp_path_factory.mktemp("h36m")
     (root / "S9").mkdir()
     (root / "S9" / "walking_1.txt").write_text("\n".join(",".join(r) for r in rows))
-    err = io.StringIO()
-    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
-        try:
-            code = main(
-                ["eval", "h36m", "--data", str(root), "--subjects", subjects, "--out", str(root / "out")]
-            )
-        except SystemExit as e:  # argparse refusing an option
-            code = e.code
-    assert code in (0, 2), err.getvalue()
+    code, _, err = run_cli(
+        ["eval", "h36m", "--data", str(root), "--subjects", subjects, "--out", str(root / "out")]
+    )
+    assert code in (0, 2), err
 
 
 @SETTINGS
