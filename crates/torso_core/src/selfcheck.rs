@@ -184,11 +184,15 @@ impl SelfCheck {
     /// Component `c`'s prior candidate for checked horizon `k` (see the module's description):
     /// a walk mostly goes on, a turn is continued at most as far ahead as it has been seen.
     fn prior(&self, c: usize, k: usize) -> usize {
-        let steady = self.steady[c] && (c < 3 || self.seen >= HORIZONS[k] - 1e-9);
-        match c {
-            0..=2 if steady => VELOCITY,
-            AZIMUTH if steady => VELOCITY,
-            _ => HOLD,
+        let steady = match c {
+            0..=2 => self.steady[c],
+            AZIMUTH => self.steady[c] && self.seen >= HORIZONS[k] - 1e-9,
+            _ => false,
+        };
+        if steady {
+            VELOCITY
+        } else {
+            HOLD
         }
     }
 

@@ -241,6 +241,10 @@ impl Person {
         if self.forecaster.len() < self.forecaster.min_samples() {
             return Ok(false);
         }
+        let (hold, _) = self
+            .forecaster
+            .sample(self.forecaster.len() - 1)
+            .expect("not empty");
         match &mut self.check {
             None => self.forecaster.forecast(horizons, out)?,
             Some(check) => {
@@ -250,10 +254,6 @@ impl Person {
                 }
                 let plain = &mut self.scratch[..horizons.len()];
                 self.forecaster.forecast_both(horizons, out, plain)?;
-                let (hold, _) = self
-                    .forecaster
-                    .sample(self.forecaster.len() - 1)
-                    .expect("not empty");
                 let rate = self
                     .trend
                     .unwrap_or_else(|| Trend::of(&self.forecaster))
@@ -273,12 +273,8 @@ impl Person {
         // The forecaster's last sample may be older than the latest estimate (a frame between
         // two grid slots is not taken): every candidate moves with it, so that holding still
         // holds the latest estimate.
-        let (sample, _) = self
-            .forecaster
-            .sample(self.forecaster.len() - 1)
-            .expect("not empty");
-        let latest = self.last_pose.unwrap_or(sample);
-        let mut offset: Pose = std::array::from_fn(|c| latest[c] - sample[c]);
+        let latest = self.last_pose.unwrap_or(hold);
+        let mut offset: Pose = std::array::from_fn(|c| latest[c] - hold[c]);
         offset[AZIMUTH] = wrap_angle(offset[AZIMUTH]);
         for pose in out.iter_mut() {
             for (value, shift) in pose.iter_mut().zip(offset) {
