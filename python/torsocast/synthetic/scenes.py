@@ -64,12 +64,6 @@ class Actor:
     # (the scenes benchmark's cache names files by the spec's repr; it adds the turn itself).
     turn: float = field(default=0.0, repr=False)
 
-    @property
-    def category(self) -> str | None:
-        """The motion category this actor's placement makes of any clip: :data:`TURNING` for a
-        person turning on the spot, else None (the clip's own category)."""
-        return TURNING if self.turn else None
-
     def place(self, motion: Motion) -> F64:
         """The clip's joints ``(frames, 38, 3)`` where this actor puts them."""
         target = np.array([*self.position, 0.0])
@@ -139,7 +133,7 @@ class RenderedScene:
 
     def category(self, actor: int) -> str:
         """The motion category of ``actor``: its clip's, or :data:`TURNING`."""
-        return self.spec.actors[actor].category or self.clips[actor].category
+        return TURNING if self.spec.actors[actor].turn else self.clips[actor].category
 
     def truth_at(self, actor: int, t: float | F64) -> F64:
         """True torso pose(s) of ``actor`` at scene time(s) ``t``: ``(..., 5)``, NaN where absent."""
