@@ -83,6 +83,34 @@ def test_a_track_born_facing_away_takes_the_labels_and_turns_round_on_steady_evi
     assert obs.pose[3] == pytest.approx(tc.wrap_angle(np.pi + 0.005 * 29))
 
 
+def with_bent_knees(joints, scores, yaw, bend=0.08):
+    """``joints`` with legs under the hips whose knees stand ``bend`` m forwards of them."""
+    forward = np.array([np.cos(yaw), np.sin(yaw), 0.0])
+    joints, scores = joints.copy(), scores.copy()
+    for hip, knee, ankle in ((11, 13, 15), (12, 14, 16)):
+        joints[knee] = joints[hip] + [0.0, 0.0, -0.4] + bend * forward
+        joints[ankle] = joints[hip] + [0.0, 0.0, -0.8]
+        scores[[knee, ankle]] = 0.9
+    return joints, scores
+
+
+def test_bent_knees_keep_the_heading_where_the_detector_mostly_exchanges_the_labels():
+    # Back to the camera (no face seen), labels exchanged in two frames of three for two
+    # seconds: the knees, which do not depend on the labels, keep the true heading; without
+    # them (knee_weight=0) the exchanged labels win and the track faces the camera.
+    yaw = 0.3
+    for knee_weight, want in ((PersonConfig().knee_weight, yaw), (0.0, yaw + np.pi)):
+        track = tc.Person(PersonConfig(knee_weight=knee_weight))
+        for k in range(50):
+            joints, scores = with_bent_knees(*person([2.0, 0.5, 1.0], yaw), yaw)
+            if k % 3:
+                joints, scores = swap_sides(joints), swap_sides(scores[:, None])[:, 0]
+            obs = track.update(k / 25, joints, scores, CAMERA)
+        assert tc.wrap_angle(obs.pose[3] - want) == pytest.approx(0.0, abs=1e-9), knee_weight
+    with pytest.raises(tc.InvalidArgumentError, match="knee_weight"):
+        PersonConfig(knee_weight=-1.0)
+
+
 def test_without_hips_the_azimuth_comes_from_the_shoulders():
     track = tc.Person()
     joints, scores = person([2.0, 0.0, 1.0], 2.5)

@@ -267,6 +267,7 @@ class PersonConfig:
         min_score: float | None = None,
         facing_memory: float | None = None,
         face_weight: float | None = None,
+        knee_weight: float | None = None,
         motion_weight: float | None = None,
         self_check: bool | None = None,
         occlusion_ratio: float | None = None,
@@ -289,6 +290,9 @@ class PersonConfig:
     @property
     def face_weight(self) -> float:
         """Weight of the nose standing in front of the shoulders, relative to the labels'."""
+    @property
+    def knee_weight(self) -> float:
+        """Weight of the knees standing in front of their legs, relative to the labels'."""
     @property
     def motion_weight(self) -> float:
         """Weight of the walking direction, relative to the labels'."""

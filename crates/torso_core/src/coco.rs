@@ -18,6 +18,10 @@ pub const LEFT_SHOULDER: usize = 5;
 pub const RIGHT_SHOULDER: usize = 6;
 pub const LEFT_HIP: usize = 11;
 pub const RIGHT_HIP: usize = 12;
+pub const LEFT_KNEE: usize = 13;
+pub const RIGHT_KNEE: usize = 14;
+pub const LEFT_ANKLE: usize = 15;
+pub const RIGHT_ANKLE: usize = 16;
 
 /// The joints the torso plane is fitted through, shoulders first.
 pub const TORSO: [usize; 4] = [LEFT_SHOULDER, RIGHT_SHOULDER, LEFT_HIP, RIGHT_HIP];

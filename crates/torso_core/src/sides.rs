@@ -3,11 +3,14 @@
 //! The torso plane gives the normal's line well; which of its two directions is the chest comes
 //! from the detector's left/right labels, and those are wrong in a share of frames (small or far
 //! people, profile views), often for many frames in a row. So a track keeps its heading
-//! continuous from frame to frame and weighs, with a memory of a second or so, three cues to
+//! continuous from frame to frame and weighs, with a memory of a second or so, four cues to
 //! whether that heading or its opposite is the chest's:
 //!
 //! - the labels: the labelled plane's normal on the heading's side or the opposite one;
 //! - the face: the nose, seen in front and profile views, stands in front of the shoulders;
+//! - the knees: a knee bends forwards only, so a bent knee stands in front of the line from its
+//!   hip to its ankle; this reads where the keypoints are, not how they are labelled, so it
+//!   holds where the detector has the sides exchanged;
 //! - the motion: people mostly face where they walk, when they walk fast enough to tell.
 //!
 //! When the weighed evidence turns against the heading, the track turns round: the heading and
@@ -18,6 +21,8 @@ use std::f64::consts::PI;
 
 /// A nose less than this (m) in front of the shoulders' midpoint, horizontally, says nothing.
 const MIN_NOSE_OFFSET: f64 = 0.03;
+/// Knees less than this (m) in front of their hip-to-ankle lines, horizontally, say nothing.
+const MIN_KNEE_OFFSET: f64 = 0.03;
 /// Walking slower than this (m/s) says nothing of the heading; the motion cue reaches its full
 /// weight `FULL_SPEED_SPAN` faster.
 const MIN_SPEED: f64 = 0.5;
@@ -43,6 +48,8 @@ pub struct FacingConfig {
     pub memory: f64,
     /// Weight of the nose cue, relative to the labels' (1 per 0.04 s of agreement).
     pub face_weight: f64,
+    /// Weight of the bent-knees cue, relative to the labels'.
+    pub knee_weight: f64,
     /// Weight of the walking-direction cue, relative to the labels'.
     pub motion_weight: f64,
 }
@@ -52,7 +59,34 @@ impl Default for FacingConfig {
         Self {
             memory: 1.0,
             face_weight: 2.0,
+            knee_weight: 3.0,
             motion_weight: 1.0,
+        }
+    }
+}
+
+/// What one frame's joints say of the heading; see [`Cues::of`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cues {
+    /// Azimuth of the torso plane's normal (or the shoulder line's) as the detector labelled it.
+    pub labelled: f64,
+    /// The torso's centre (m).
+    pub centre: [f64; 3],
+    /// Horizontal direction from the shoulders to the nose, where it stands out ([`nose_direction`]).
+    pub nose: Option<f64>,
+    /// Horizontal direction in which the knees stand out of their legs ([`knee_direction`]).
+    pub knees: Option<f64>,
+}
+
+impl Cues {
+    /// The cues of a frame's `joints` (NaN where not seen), given the azimuth and centre of
+    /// their labelled torso plane.
+    pub fn of(joints: &Joints, labelled: f64, centre: [f64; 3]) -> Self {
+        Self {
+            labelled,
+            centre,
+            nose: nose_direction(joints),
+            knees: knee_direction(joints),
         }
     }
 }
@@ -60,9 +94,10 @@ impl Default for FacingConfig {
 /// What one frame's cues decided.
 ///
 /// ```
-/// use torso_core::sides::{Facing, FacingConfig};
+/// use torso_core::sides::{Cues, Facing, FacingConfig};
 /// let mut facing = Facing::default();
-/// let first = facing.decide(0.0, 0.3, [2.0, 0.0, 1.0], None, &FacingConfig::default());
+/// let cues = Cues { labelled: 0.3, centre: [2.0, 0.0, 1.0], nose: None, knees: None };
+/// let first = facing.decide(0.0, &cues, &FacingConfig::default());
 /// // A new track takes the labels as they are.
 /// assert!(!first.exchange && !first.turned && (first.heading - 0.3).abs() < 1e-12);
 /// ```
@@ -80,14 +115,16 @@ pub struct Decision {
 /// One track's heading and the evidence for it.
 ///
 /// ```
-/// use torso_core::sides::{Facing, FacingConfig};
+/// use torso_core::sides::{Cues, Facing, FacingConfig};
 /// let (mut facing, config) = (Facing::default(), FacingConfig::default());
+/// let cues = Cues { labelled: 0.0, centre: [2.0, 0.0, 1.0], nose: None, knees: None };
 /// for k in 0..25 {
-///     facing.decide(k as f64 * 0.04, 0.0, [2.0, 0.0, 1.0], None, &config);
+///     facing.decide(k as f64 * 0.04, &cues, &config);
 /// }
 /// // After a second of labels facing +x, one frame that says the opposite has its labels
 /// // exchanged back; the track does not turn round.
-/// let once = facing.decide(1.0, std::f64::consts::PI, [2.0, 0.0, 1.0], None, &config);
+/// let opposite = Cues { labelled: std::f64::consts::PI, ..cues };
+/// let once = facing.decide(1.0, &opposite, &config);
 /// assert!(once.exchange && !once.turned && once.heading == 0.0);
 /// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -99,17 +136,14 @@ pub struct Facing {
 }
 
 impl Facing {
-    /// The decision for a frame at `t` whose labelled plane (or shoulder line) has azimuth
-    /// `labelled` and centre `centre`, with the nose's horizontal direction from the shoulders
-    /// (`nose`, see [`nose_direction`]) where it is seen.
-    pub fn decide(
-        &mut self,
-        t: f64,
-        labelled: f64,
-        centre: [f64; 3],
-        nose: Option<f64>,
-        config: &FacingConfig,
-    ) -> Decision {
+    /// The decision for a frame at `t` with these cues.
+    pub fn decide(&mut self, t: f64, cues: &Cues, config: &FacingConfig) -> Decision {
+        let Cues {
+            labelled,
+            centre,
+            nose,
+            knees,
+        } = *cues;
         let (dt, candidate) = match (self.heading, self.last) {
             (Some(h), Some((last_t, _))) => {
                 let near = labelled + 2.0 * PI * ((h - labelled) / (2.0 * PI)).round();
@@ -141,6 +175,9 @@ impl Facing {
         if let Some(n) = nose {
             vote += config.face_weight * agrees(n);
         }
+        if let Some(k) = knees {
+            vote += config.knee_weight * agrees(k);
+        }
         let speed = self.velocity[0].hypot(self.velocity[1]);
         if speed > MIN_SPEED {
             let strength = ((speed - MIN_SPEED) / FULL_SPEED_SPAN).min(1.0);
@@ -169,15 +206,49 @@ impl Facing {
 /// both shoulders are seen (finite) and the nose stands out at least `MIN_NOSE_OFFSET`.
 pub fn nose_direction(joints: &Joints) -> Option<f64> {
     let [n, l, r] = [coco::NOSE, coco::LEFT_SHOULDER, coco::RIGHT_SHOULDER];
-    if ![n, l, r]
-        .iter()
-        .all(|&i| joints[i].iter().all(|v| v.is_finite()))
-    {
+    if ![n, l, r].iter().all(|&i| seen(joints, i)) {
         return None;
     }
-    let dx = joints[n][0] - 0.5 * (joints[l][0] + joints[r][0]);
-    let dy = joints[n][1] - 0.5 * (joints[l][1] + joints[r][1]);
-    (dx.hypot(dy) >= MIN_NOSE_OFFSET).then(|| dy.atan2(dx))
+    let offset = [0, 1].map(|k| joints[n][k] - 0.5 * (joints[l][k] + joints[r][k]));
+    direction(offset, MIN_NOSE_OFFSET)
+}
+
+/// Horizontal direction in which the knees stand out of the lines from their hips to their
+/// ankles, where every leg whose three joints are seen has its knee at least `MIN_KNEE_OFFSET`
+/// out that way (a detector that pairs one leg's knee with the other's ankle, or reads a knee's
+/// depth off the other leg, bends that leg backwards, so one leg against the other says
+/// nothing). Which leg is labelled left does not matter, only that a leg's joints are one leg's.
+pub fn knee_direction(joints: &Joints) -> Option<f64> {
+    let legs = [
+        [coco::LEFT_HIP, coco::LEFT_KNEE, coco::LEFT_ANKLE],
+        [coco::RIGHT_HIP, coco::RIGHT_KNEE, coco::RIGHT_ANKLE],
+    ];
+    let offsets = legs.map(|[hip, knee, ankle]| {
+        [hip, knee, ankle]
+            .iter()
+            .all(|&i| seen(joints, i))
+            .then(|| [0, 1].map(|k| joints[knee][k] - 0.5 * (joints[hip][k] + joints[ankle][k])))
+    });
+    let sum = offsets
+        .iter()
+        .flatten()
+        .fold([0.0; 2], |s, o| [s[0] + o[0], s[1] + o[1]]);
+    let azimuth = direction(sum, MIN_KNEE_OFFSET)?;
+    let (c, s) = (azimuth.cos(), azimuth.sin());
+    let every_leg = offsets
+        .iter()
+        .flatten()
+        .all(|o| o[0] * c + o[1] * s >= MIN_KNEE_OFFSET);
+    every_leg.then_some(azimuth)
+}
+
+fn seen(joints: &Joints, i: usize) -> bool {
+    joints[i].iter().all(|v| v.is_finite())
+}
+
+/// The azimuth of a horizontal offset at least `min` long.
+fn direction(offset: [f64; 2], min: f64) -> Option<f64> {
+    (offset[0].hypot(offset[1]) >= min).then(|| offset[1].atan2(offset[0]))
 }
 
 #[cfg(test)]
@@ -189,6 +260,15 @@ mod tests {
         crate::person::wrap_angle(a - b).abs()
     }
 
+    fn cues(labelled: f64, centre: [f64; 3], nose: Option<f64>) -> Cues {
+        Cues {
+            labelled,
+            centre,
+            nose,
+            knees: None,
+        }
+    }
+
     #[test]
     fn labels_alone_decide_and_a_short_disagreement_does_not_turn_the_track() {
         let config = FacingConfig::default();
@@ -197,7 +277,7 @@ mod tests {
             let t = k as f64 / 25.0;
             // Labels exchanged in frames 20 to 24 (0.2 s): the heading holds.
             let labelled = if (20..25).contains(&k) { 0.3 + PI } else { 0.3 };
-            let d = facing.decide(t, labelled, [2.0, 0.0, 1.0], None, &config);
+            let d = facing.decide(t, &cues(labelled, [2.0, 0.0, 1.0], None), &config);
             assert!(error(d.heading, 0.3) < 1e-12, "frame {k}");
             assert_eq!(d.exchange, (20..25).contains(&k));
             assert!(!d.turned);
@@ -209,11 +289,12 @@ mod tests {
         let config = FacingConfig::default();
         let mut facing = Facing::default();
         // Born from exchanged labels (heading 0.3 + π), then a nose and labels that say 0.3.
-        let first = facing.decide(0.0, 0.3 + PI, [2.0, 0.0, 1.0], None, &config);
+        let first = facing.decide(0.0, &cues(0.3 + PI, [2.0, 0.0, 1.0], None), &config);
         assert!(error(first.heading, 0.3 + PI) < 1e-12);
         let mut turned_at = None;
         for k in 1..50 {
-            let d = facing.decide(k as f64 / 25.0, 0.3, [2.0, 0.0, 1.0], Some(0.4), &config);
+            let now = cues(0.3, [2.0, 0.0, 1.0], Some(0.4));
+            let d = facing.decide(k as f64 / 25.0, &now, &config);
             if d.turned {
                 turned_at = Some(k);
             }
@@ -235,10 +316,53 @@ mod tests {
                 let t = k as f64 / 25.0;
                 let labelled = if k % 5 < 3 { PI } else { 0.0 };
                 let config = FacingConfig::default();
-                last = facing.decide(t, labelled, [speed * t, 0.0, 1.0], None, &config);
+                last = facing.decide(t, &cues(labelled, [speed * t, 0.0, 1.0], None), &config);
             }
             assert!(error(last.heading, want) < 1e-12, "speed {speed}");
         }
+    }
+
+    #[test]
+    fn bent_knees_overrule_exchanged_labels() {
+        // Facing +x, labels exchanged in every other frame of three: with the knees seen bent
+        // (in front of their legs) the track keeps +x; without them the labels win.
+        for (knees, want) in [(Some(0.1), 0.0), (None, PI)] {
+            let mut facing = Facing::default();
+            let mut last = Decision::default();
+            for k in 0..50 {
+                let labelled = if k % 3 == 0 { 0.0 } else { PI };
+                let frame = Cues {
+                    knees,
+                    ..cues(labelled, [2.0, 0.0, 1.0], None)
+                };
+                last = facing.decide(k as f64 / 25.0, &frame, &FacingConfig::default());
+            }
+            assert!(error(last.heading, want) < 1e-12, "knees {knees:?}");
+        }
+    }
+
+    #[test]
+    fn the_knee_direction_reads_places_not_labels_and_needs_a_bend() {
+        // Facing +x: hips at 0.9 m, knees bent 8 cm forwards, ankles under the hips.
+        let mut joints = [[f64::NAN; 3]; N_JOINTS];
+        joints[coco::LEFT_HIP] = [2.0, -0.1, 0.9];
+        joints[coco::RIGHT_HIP] = [2.0, 0.1, 0.9];
+        joints[coco::LEFT_KNEE] = [2.08, -0.1, 0.5];
+        joints[coco::RIGHT_KNEE] = [2.08, 0.1, 0.5];
+        joints[coco::LEFT_ANKLE] = [2.0, -0.1, 0.1];
+        joints[coco::RIGHT_ANKLE] = [2.0, 0.1, 0.1];
+        assert!(error(knee_direction(&joints).unwrap(), 0.0) < 1e-12);
+        // Labels exchanged (as a detector does for a back view): the same direction.
+        let mut exchanged = joints;
+        coco::swap_sides(&mut exchanged);
+        assert!(error(knee_direction(&exchanged).unwrap(), 0.0) < 1e-12);
+        // One leg seen is enough; straight legs say nothing.
+        joints[coco::RIGHT_ANKLE] = [f64::NAN; 3];
+        assert!(error(knee_direction(&joints).unwrap(), 0.0) < 1e-12);
+        joints[coco::LEFT_KNEE] = [2.01, -0.1, 0.5];
+        assert_eq!(knee_direction(&joints), None);
+        joints[coco::LEFT_ANKLE] = [f64::NAN; 3];
+        assert_eq!(knee_direction(&joints), None);
     }
 
     #[test]

@@ -91,8 +91,8 @@ pub fn newargs<'py>(py: Python<'py>, fields: Fields<'py>) -> PyResult<Bound<'py,
 }
 
 /// PersonConfig(forecaster=None, *, gate_threshold, gate_max_replacements, min_score,
-/// facing_memory, face_weight, motion_weight, self_check, occlusion_ratio): one track's
-/// parameters (`torso_core::PersonConfig`); each left out takes the core's default.
+/// facing_memory, face_weight, knee_weight, motion_weight, self_check, occlusion_ratio): one
+/// track's parameters (`torso_core::PersonConfig`); each left out takes the core's default.
 #[pyclass(module = "torsocast._core", frozen, eq)]
 #[derive(Clone)]
 pub struct PersonConfig {
@@ -139,6 +139,10 @@ impl PersonConfig {
                 c.facing.face_weight.into_pyobject(py)?.into_any(),
             ),
             (
+                "knee_weight",
+                c.facing.knee_weight.into_pyobject(py)?.into_any(),
+            ),
+            (
                 "motion_weight",
                 c.facing.motion_weight.into_pyobject(py)?.into_any(),
             ),
@@ -158,8 +162,8 @@ frozen_config!(PersonConfig, {
     #[new]
     #[pyo3(signature = (
         forecaster=None, *, gate_threshold=None, gate_max_replacements=None, min_score=None,
-        facing_memory=None, face_weight=None, motion_weight=None, self_check=None,
-        occlusion_ratio=None
+        facing_memory=None, face_weight=None, knee_weight=None, motion_weight=None,
+        self_check=None, occlusion_ratio=None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn new(
@@ -169,6 +173,7 @@ frozen_config!(PersonConfig, {
         min_score: Option<f64>,
         facing_memory: Option<f64>,
         face_weight: Option<f64>,
+        knee_weight: Option<f64>,
         motion_weight: Option<f64>,
         self_check: Option<bool>,
         occlusion_ratio: Option<f64>,
@@ -188,6 +193,7 @@ frozen_config!(PersonConfig, {
             facing: FacingConfig {
                 memory: facing_memory.unwrap_or(d.facing.memory),
                 face_weight: face_weight.unwrap_or(d.facing.face_weight),
+                knee_weight: knee_weight.unwrap_or(d.facing.knee_weight),
                 motion_weight: motion_weight.unwrap_or(d.facing.motion_weight),
             },
             self_check: self_check.unwrap_or(d.self_check),
@@ -226,6 +232,11 @@ frozen_config!(PersonConfig, {
     #[getter]
     fn face_weight(&self) -> f64 {
         self.inner.facing.face_weight
+    }
+    /// Weight of the knees standing in front of their legs, relative to the labels'.
+    #[getter]
+    fn knee_weight(&self) -> f64 {
+        self.inner.facing.knee_weight
     }
     /// Weight of the walking direction, relative to the labels'.
     #[getter]

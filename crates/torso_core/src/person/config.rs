@@ -77,6 +77,11 @@ impl PersonConfig {
                 "a finite, non-negative weight",
             ),
             (
+                "knee_weight",
+                f.knee_weight,
+                "a finite, non-negative weight",
+            ),
+            (
                 "motion_weight",
                 f.motion_weight,
                 "a finite, non-negative weight",

@@ -29,7 +29,7 @@ use crate::forecaster::Forecaster;
 use crate::gating::{JointGate, JointStatus};
 use crate::plane::{fit_torso_plane, shoulder_heading};
 use crate::selfcheck::{SelfCheck, HORIZONS as CHECK_HORIZONS, INTERVAL_80};
-use crate::sides::{nose_direction, Decision, Facing};
+use crate::sides::{Cues, Decision, Facing};
 use crate::trend::Trend;
 use crate::vec3::{add, finite, midpoint, sub};
 use crate::{Pose, AZIMUTH, ELEVATION};
@@ -185,10 +185,8 @@ impl Person {
         let mut completed = self.complete_occluded(&mut joints, camera_position);
         let mut decision = Decision::default();
         if let Some((labelled, centre)) = labelled_heading(&joints) {
-            let nose = nose_direction(&joints);
-            decision = self
-                .facing
-                .decide(t, labelled, centre, nose, &self.config.facing);
+            let cues = Cues::of(&joints, labelled, centre);
+            decision = self.facing.decide(t, &cues, &self.config.facing);
         }
         if decision.turned {
             self.turn_round();
