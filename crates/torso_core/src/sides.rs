@@ -3,7 +3,10 @@
 //! The torso plane gives the normal's line well; which of its two directions is the chest comes
 //! from the detector's left/right labels, and those are wrong in a share of frames (small or far
 //! people, profile views), often for many frames in a row. So a track keeps its heading
-//! continuous from frame to frame and weighs, with a memory of a second or so, four cues to
+//! continuous (each frame takes the side of the torso line nearer the heading of the last fifth
+//! of a second, not of the last frame alone, so that one frame whose plane is badly off cannot
+//! carry the heading a quarter turn round and the next onto the back) and weighs, with a memory
+//! of a second or so, four cues to
 //! whether that heading or its opposite is the chest's:
 //!
 //! - the labels: the labelled plane's normal on the heading's side or the opposite one;
@@ -23,6 +26,8 @@ use std::f64::consts::PI;
 const MIN_NOSE_OFFSET: f64 = 0.03;
 /// Knees less than this (m) in front of their hip-to-ankle lines, horizontally, say nothing.
 const MIN_KNEE_OFFSET: f64 = 0.03;
+/// Time constant (s) of the recent heading whose side of the torso line a frame takes.
+const REFERENCE_TIME: f64 = 0.2;
 /// Walking slower than this (m/s) says nothing of the heading; the motion cue reaches its full
 /// weight `FULL_SPEED_SPAN` faster.
 const MIN_SPEED: f64 = 0.5;
@@ -133,6 +138,8 @@ pub struct Facing {
     evidence: f64,
     last: Option<(f64, [f64; 2])>,
     velocity: [f64; 2],
+    /// The recent heading as a smoothed unit vector (zero before the first frame).
+    reference: [f64; 2],
 }
 
 impl Facing {
@@ -144,16 +151,16 @@ impl Facing {
             nose,
             knees,
         } = *cues;
+        let first = self.heading.is_none();
         let (dt, candidate) = match (self.heading, self.last) {
             (Some(h), Some((last_t, _))) => {
-                let near = labelled + 2.0 * PI * ((h - labelled) / (2.0 * PI)).round();
-                let near = if (near - h).abs() <= PI / 2.0 {
-                    near
-                } else if near > h {
-                    near - PI
+                let reference = self.reference[1].atan2(self.reference[0]);
+                let side = if (labelled - reference).cos() >= 0.0 {
+                    labelled
                 } else {
-                    near + PI
+                    labelled + PI
                 };
+                let near = side + 2.0 * PI * ((h - side) / (2.0 * PI)).round();
                 ((t - last_t).clamp(0.0, MAX_STEP), near)
             }
             _ => (UNIT_STEP, labelled),
@@ -193,6 +200,16 @@ impl Facing {
             turned = self.heading.is_some();
         }
         self.heading = Some(heading);
+        if turned {
+            self.reference = self.reference.map(|v| -v);
+        }
+        let g = if first {
+            1.0
+        } else {
+            1.0 - (-dt / REFERENCE_TIME).exp()
+        };
+        self.reference[0] += g * (heading.cos() - self.reference[0]);
+        self.reference[1] += g * (heading.sin() - self.reference[1]);
         let exchange = (heading - labelled).cos() < 0.0;
         Decision {
             exchange,
@@ -319,6 +336,30 @@ mod tests {
                 last = facing.decide(t, &cues(labelled, [speed * t, 0.0, 1.0], None), &config);
             }
             assert!(error(last.heading, want) < 1e-12, "speed {speed}");
+        }
+    }
+
+    #[test]
+    fn two_frames_of_a_bad_plane_do_not_carry_the_heading_onto_the_back() {
+        // Facing 0 for a second, then two frames whose torso line (and labels) come out 60 and
+        // 120 degrees off: continuing from the last frame alone would take 60, then 120 (the
+        // back); the recent heading keeps the side of the line at -60, and then 0 again.
+        let config = FacingConfig::default();
+        let mut facing = Facing::default();
+        let bad = [60f64.to_radians(), 120f64.to_radians()];
+        for k in 0..30 {
+            let labelled = if (25..27).contains(&k) {
+                bad[k - 25]
+            } else {
+                0.0
+            };
+            let now = cues(labelled, [2.0, 0.0, 1.0], None);
+            let d = facing.decide(k as f64 / 25.0, &now, &config);
+            assert!(
+                error(d.heading, 0.0) <= 60f64.to_radians() + 1e-9,
+                "frame {k}"
+            );
+            assert!(!d.turned);
         }
     }
 
