@@ -6,8 +6,7 @@
 //! continuous (each frame takes the side of the torso line nearer the heading of the last fifth
 //! of a second, not of the last frame alone, so that one frame whose plane is badly off cannot
 //! carry the heading a quarter turn round and the next onto the back) and weighs, with a memory
-//! of a second or so, four cues to
-//! whether that heading or its opposite is the chest's:
+//! of a second or so, four cues to whether that heading or its opposite is the chest's:
 //!
 //! - the labels: the labelled plane's normal on the heading's side or the opposite one;
 //! - the face: the nose, seen in front and profile views, stands in front of the shoulders;
@@ -365,7 +364,7 @@ mod tests {
 
     #[test]
     fn bent_knees_overrule_exchanged_labels() {
-        // Facing +x, labels exchanged in every other frame of three: with the knees seen bent
+        // Facing +x, labels exchanged in two frames of every three: with the knees seen bent
         // (in front of their legs) the track keeps +x; without them the labels win.
         for (knees, want) in [(Some(0.1), 0.0), (None, PI)] {
             let mut facing = Facing::default();
@@ -397,6 +396,11 @@ mod tests {
         let mut exchanged = joints;
         coco::swap_sides(&mut exchanged);
         assert!(error(knee_direction(&exchanged).unwrap(), 0.0) < 1e-12);
+        // One leg bent backwards by more than the other's bend forwards (a knee read off the
+        // other leg): the legs disagree, and say nothing.
+        let mut disagree = joints;
+        disagree[coco::RIGHT_KNEE] = [1.77, 0.1, 0.5];
+        assert_eq!(knee_direction(&disagree), None);
         // One leg seen is enough; straight legs say nothing.
         joints[coco::RIGHT_ANKLE] = [f64::NAN; 3];
         assert!(error(knee_direction(&joints).unwrap(), 0.0) < 1e-12);
