@@ -180,7 +180,8 @@ fn a_tracked_person_never_allocates_per_frame() {
     let mut person = Person::new(PersonConfig::default()).unwrap();
     let mut out = [[0.0; 5]; 2];
     // Build the first frames outside the count: the forecaster's history fills up, then every
-    // branch (plane, shoulders only, a swapped frame, a jumping joint, a gap) runs counted.
+    // branch (plane, shoulders only, a swapped frame, a jumping joint, bent knees, a gap) runs
+    // counted.
     let frame = |k: usize| -> (Joints, [f64; N_JOINTS]) {
         let x = 2.0 + 0.02 * k as f64;
         let joints = std::array::from_fn(|j| {
@@ -206,7 +207,11 @@ fn a_tracked_person_never_allocates_per_frame() {
                 0 => scores[11..13].fill(0.0), // no hips: shoulders only
                 1 => joints[11][0] += 0.5,     // a jumping joint
                 2 => coco::swap_sides(&mut joints),
-                _ => {}
+                _ => {
+                    // Bent knees: the heading's knee cue votes.
+                    joints[13][0] -= 0.1;
+                    joints[14][0] -= 0.1;
+                }
             }
             let t = k as f64 * 0.04 + if k >= 100 { 0.2 } else { 0.0 };
             person.update(t, &joints, &scores, [0.0; 3]).unwrap();
