@@ -1,5 +1,7 @@
 """Keypoint models on real photos, against the reference keypoints in ../shared/data/images."""
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 from PIL import Image
@@ -8,6 +10,7 @@ from conftest import shared_path
 from torsocast.keypoints import open_model
 from torsocast.keypoints.image import letterbox
 from torsocast.keypoints.loading import recognise
+from torsocast.keypoints.movenet import MoveNet, crop_region
 from torsocast.keypoints.yolo import non_maximum_suppression
 
 # README of ../shared/data/images: yolo11n-pose at 640, (u, v) of L/R shoulder, L/R hip.
@@ -54,6 +57,50 @@ def test_bundled_movenet_finds_the_astronaut_and_is_recognised():
     shoulders = found.keypoints[0, [5, 6], :2]
     assert np.abs(shoulders - [(311.7, 249.6), (104.0, 243.1)]).max() < 30.0
     assert (found.keypoints[0, [5, 6], 2] >= 0.3).all()
+
+
+class FakeMoveNet:
+    """An ONNX session standing in for MoveNet: it answers each run with the next of ``answers``
+    (17 keypoints' (y, x) as fractions of its input, and one score for all) and keeps the
+    images it was given."""
+
+    def __init__(self, answers):
+        self.answers, self.inputs = list(answers), []
+
+    def get_inputs(self):
+        return [SimpleNamespace(name="input", shape=[1, 192, 192, 3], type="tensor(uint8)")]
+
+    def run(self, _outputs, feeds):
+        self.inputs.append(feeds["input"][0])
+        (y, x), score = self.answers.pop(0)
+        out = np.zeros((1, 1, 17, 3))
+        out[..., 0], out[..., 1], out[..., 2] = y, x, score
+        out[0, 0, 1, :2] = y + 0.1, x + 0.05  # a second point, so the box has a size
+        return [out]
+
+
+def test_movenet_runs_on_a_crop_around_the_last_person_and_falls_back_to_the_whole_image():
+    image = np.zeros((480, 640, 3), np.uint8)
+    # The whole image is padded to 640 x 640: fraction f is pixel 640 f.
+    session = FakeMoveNet([((0.5, 0.25), 0.9), ((0.5, 0.5), 0.9), ((0.5, 0.5), 0.05), ((0.5, 0.25), 0.9)])
+    model = MoveNet(session)
+    first = model(image)
+    assert np.allclose(first.keypoints[0, 0, :2], [160.0, 320.0])
+    # The box (160, 320)-(192, 384) is 64 px high: the crop is 80 px square around its centre.
+    region = crop_region(first.boxes[0], image.shape)
+    assert region == (136, 312, 80)
+    second = model(image)  # on the crop: its centre is the box's centre
+    assert np.allclose(second.keypoints[0, 0, :2], [176.0, 352.0])
+    assert len(session.inputs) == 2
+    # The crop finds nobody: the whole image is run in the same frame.
+    third = model(image)
+    assert len(session.inputs) == 4 and np.allclose(third.keypoints[0, 0, :2], [160.0, 320.0])
+    # A box as large as the image is run whole; reset() forgets the last person.
+    assert crop_region(np.array([0.0, 0.0, 600.0, 470.0]), image.shape) is None
+    model.reset()
+    session.answers.append(((0.5, 0.25), 0.9))
+    model(image)
+    assert np.array_equal(session.inputs[-1], session.inputs[0])  # the whole image again
 
 
 def test_family_is_recognised_from_the_model_and_checked():

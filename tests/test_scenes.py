@@ -248,9 +248,9 @@ def test_eval_scenes_quick_runs_and_its_numbers_come_back_for_the_seed(tmp_path,
     assert len(report["losses_to_hold"]) == 0 or "**Forecast worse than holding" in head
     tables = report["tables"]
     assert tables["recovery"]["all"][0]["person_frames"] > 300
-    # Front/back flips: measured 12.3 % of this split's estimates (26.2 % before the bent-knees
-    # cue and the recent heading's side of the torso line; the target is 1 %).
-    assert tables["recovery"]["all"][0]["flips"] < 0.18
+    # Front/back flips: measured 9.2 % of this split's estimates (26.2 % before the bent-knees
+    # cue, the recent heading's side of the torso line and MoveNet's crop; the target is 1 %).
+    assert tables["recovery"]["all"][0]["flips"] < 0.15
     assert {r["horizon"] for r in tables["forecasts"]["all"]} == {0.4, 1.0, 2.0}
     assert {r["group"] for r in tables["recovery"]["category"]} <= {
         "cmu walking",

@@ -70,6 +70,7 @@ class Pipeline:
             person = self.tracker_config.person.replace(face_weight=0.0)
             self.tracker_config = self.tracker_config.replace(person=person)
         self.tracker = Tracker(self.tracker_config)
+        self._reset_model()
 
     def __call__(self, frame: Frame) -> FrameResult:
         """One frame through every stage. A frame whose time stamp is not after the previous
@@ -91,6 +92,8 @@ class Pipeline:
                 f"frame {frame.index}: depth {frame.depth.shape} is not registered to colour "
                 f"{frame.color.shape[:2]} (the keypoints would read depth at the wrong pixels)"
             )
+        if restarted_from is not None:
+            self._reset_model()
         clock = time.perf_counter()
         try:
             detections = self.model(frame.color)
@@ -137,6 +140,12 @@ class Pipeline:
     def last_time(self) -> float | None:
         """Time of the last frame taken."""
         return self.tracker.last_time  # type: ignore[no-any-return]
+
+    def _reset_model(self) -> None:
+        """A new stream: a model that keeps something from frame to frame forgets it."""
+        reset = getattr(self.model, "reset", None)
+        if reset is not None:
+            reset()
 
     def _tracked(self, frame: Frame, call: Callable[[], T], before_restart: Tracker | None) -> T:
         """``call``'s result; a frame the tracker refuses (it changed nothing) is a bad frame, and

@@ -31,7 +31,10 @@ class Detections:
 
 
 class KeypointModel(Protocol):
-    """What the pipeline needs of a keypoint model."""
+    """What the pipeline needs of a keypoint model. A model that keeps something from one frame
+    to the next (MoveNet's crop around the last frame's person) also has ``reset()``, which the
+    pipeline calls where a stream starts, and a ``variant`` text naming what its output depends
+    on besides its input size (the scenes benchmark's recordings are keyed by it)."""
 
     family: str
     input_size: int

@@ -66,7 +66,10 @@ class Benchmark:
 
 def _cache_file(cache: Path, spec: SceneSpec, model: KeypointModel) -> Path:
     turns = [a.turn for a in spec.actors if a.turn]  # not in the repr (see Actor.turn)
-    text = f"{spec!r} {type(model).__name__} {model.input_size}" + (f" turns {turns}" if turns else "")
+    variant = getattr(model, "variant", "")
+    variant = f" {variant}" if variant else ""
+    text = f"{spec!r} {type(model).__name__} {model.input_size}{variant}"
+    text += f" turns {turns}" if turns else ""
     key = hashlib.sha256(text.encode()).hexdigest()[:16]
     return cache / f"{spec.name}-{key}.npz"
 
