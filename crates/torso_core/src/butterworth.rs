@@ -235,7 +235,7 @@ impl SosFilter {
     /// [`filter_from_steady_state`](Self::filter_from_steady_state) for a window from a caller:
     /// a window with a non-finite sample is refused and left as it was.
     pub fn filter_window(&self, x: &mut [f64]) -> Result<()> {
-        check_finite(x)?;
+        check_samples("x", x)?;
         self.filter_from_steady_state(x);
         Ok(())
     }
@@ -307,7 +307,7 @@ impl LowPass {
     /// Filters the samples of `x` in place, continuing from the current state. A window with a
     /// non-finite sample is refused before any sample changes the state.
     pub fn filter_window(&mut self, x: &mut [f64]) -> Result<()> {
-        check_finite(x)?;
+        check_samples("x", x)?;
         for v in x.iter_mut() {
             *v = self.step(*v)?;
         }
@@ -316,7 +316,7 @@ impl LowPass {
 
     /// Filters one sample. A non-finite sample is rejected and leaves the state untouched.
     pub fn step(&mut self, x: f64) -> Result<f64> {
-        check_finite(&[x])?;
+        check_samples("x", &[x])?;
         if !self.started {
             self.filter.start_at(x, &mut self.state);
             self.started = true;
@@ -378,7 +378,7 @@ impl ZeroPhase {
                 got: n,
             });
         }
-        check_finite(x)?;
+        check_samples("x", x)?;
         if n < 2 {
             out.copy_from_slice(x);
             return Ok(());
@@ -408,11 +408,6 @@ impl ZeroPhase {
 /// odd extension amplify a sample by a small factor, and this leaves a factor of 1e8 before a
 /// sample could overflow to infinity.
 pub const MAX_SAMPLE: f64 = 1e300;
-
-/// Refuses a window with a NaN, infinite or overflowing sample, naming the first.
-fn check_finite(x: &[f64]) -> Result<()> {
-    check_samples("x", x)
-}
 
 /// Refuses samples `name` with a NaN, infinite or overflowing value (beyond ±[`MAX_SAMPLE`]),
 /// naming the first: the filters and the spline fit take the same data.

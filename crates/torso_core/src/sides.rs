@@ -19,6 +19,7 @@
 //! everything the track remembers of the body's sides are reversed.
 
 use crate::coco::{self, Joints};
+use crate::vec3::finite;
 use std::f64::consts::PI;
 
 /// A nose less than this (m) in front of the shoulders' midpoint, horizontally, says nothing.
@@ -222,7 +223,7 @@ impl Facing {
 /// both shoulders are seen (finite) and the nose stands out at least `MIN_NOSE_OFFSET`.
 pub fn nose_direction(joints: &Joints) -> Option<f64> {
     let [n, l, r] = [coco::NOSE, coco::LEFT_SHOULDER, coco::RIGHT_SHOULDER];
-    if ![n, l, r].iter().all(|&i| seen(joints, i)) {
+    if ![n, l, r].iter().all(|&i| finite(&joints[i])) {
         return None;
     }
     let offset = [0, 1].map(|k| joints[n][k] - 0.5 * (joints[l][k] + joints[r][k]));
@@ -242,7 +243,7 @@ pub fn knee_direction(joints: &Joints) -> Option<f64> {
     let offsets = legs.map(|[hip, knee, ankle]| {
         [hip, knee, ankle]
             .iter()
-            .all(|&i| seen(joints, i))
+            .all(|&i| finite(&joints[i]))
             .then(|| [0, 1].map(|k| joints[knee][k] - 0.5 * (joints[hip][k] + joints[ankle][k])))
     });
     let sum = offsets
@@ -256,10 +257,6 @@ pub fn knee_direction(joints: &Joints) -> Option<f64> {
         .flatten()
         .all(|o| o[0] * c + o[1] * s >= MIN_KNEE_OFFSET);
     every_leg.then_some(azimuth)
-}
-
-fn seen(joints: &Joints, i: usize) -> bool {
-    joints[i].iter().all(|v| v.is_finite())
 }
 
 /// The azimuth of a horizontal offset at least `min` long.
