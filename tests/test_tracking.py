@@ -111,6 +111,32 @@ def test_bent_knees_keep_the_heading_where_the_detector_mostly_exchanges_the_lab
         PersonConfig(knee_weight=-1.0)
 
 
+def test_a_heading_is_confident_only_where_a_cue_beside_the_labels_agrees():
+    # Back to the camera with straight legs: the labels alone, for four seconds, never make the
+    # heading confident, and its evidence approaches the facing memory's worth (1 s). The
+    # same person with bent knees is confident within half a second and stays so.
+    yaw, memory = 0.3, PersonConfig().facing_memory
+    for bent in (False, True):
+        track = tc.Person()
+        confident = []
+        for k in range(100):
+            joints, scores = person([2.0, 0.5, 1.0], yaw)
+            if bent:
+                joints, scores = with_bent_knees(joints, scores, yaw)
+            obs = track.update(k / 25, joints, scores, CAMERA)
+            confident.append(obs.heading_confident)
+        if bent:
+            assert confident.index(True) <= 12 and all(confident[12:])
+            assert obs.facing_evidence > 2 * memory
+        else:
+            assert not any(confident)
+            # The labels build step / (1 - exp(-step / memory)) at most: memory + step / 2 or so.
+            assert 0.95 * memory < obs.facing_evidence < memory + 0.5 / 25
+    # A frame without a heading has no evidence.
+    nothing = tc.Person().update(0.0, np.full((17, 3), np.nan), np.zeros(17), CAMERA)
+    assert nothing.facing_evidence == 0.0 and not nothing.heading_confident
+
+
 def test_without_hips_the_azimuth_comes_from_the_shoulders():
     track = tc.Person()
     joints, scores = person([2.0, 0.0, 1.0], 2.5)

@@ -481,6 +481,14 @@ class Observation:
     @property
     def reoriented(self) -> bool: ...
     @property
+    def facing_evidence(self) -> float:
+        """The track's weighed evidence for its heading after this frame, in seconds of the
+        detector's labels agreeing (0 where the frame had no heading)."""
+    @property
+    def heading_confident(self) -> bool:
+        """A cue other than the detector's labels (the face, bent knees, the walking direction)
+        confirms the heading's side: more evidence than the labels alone can build."""
+    @property
     def joints(self) -> _F64: ...
     @property
     def completed(self) -> npt.NDArray[np.bool_]: ...

@@ -54,6 +54,8 @@ def record(result: FrameResult, horizons: Sequence[float]) -> dict[str, Any]:
                     elevation=_clean(float(obs.pose[4])) if obs.pose is not None else None,
                     estimate=obs.estimate,
                     swapped=obs.swapped,
+                    heading_confident=obs.heading_confident,
+                    facing_evidence=_clean(obs.facing_evidence, 2),
                     joint_status=obs.joint_status.tolist(),
                     completed=np.flatnonzero(obs.completed).tolist(),
                     weight=_clean(obs.weight),

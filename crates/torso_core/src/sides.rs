@@ -115,6 +115,13 @@ pub struct Decision {
     pub turned: bool,
     /// The heading (the chest's azimuth, unwrapped near the previous one).
     pub heading: f64,
+    /// The weighed evidence for the heading after this frame, in seconds of the labels'
+    /// agreement (0 or more).
+    pub evidence: f64,
+    /// The evidence is more than the labels alone can build at this frame rate (about
+    /// [`FacingConfig::memory`] seconds' worth, approached and never passed): a cue other
+    /// than the labels (the face, the knees, the walking direction) has agreed recently.
+    pub confident: bool,
 }
 
 /// One track's heading and the evidence for it.
@@ -191,7 +198,8 @@ impl Facing {
             vote +=
                 config.motion_weight * strength * agrees(self.velocity[1].atan2(self.velocity[0]));
         }
-        self.evidence = self.evidence * (-dt / config.memory).exp() + unit * vote;
+        let keep = (-dt / config.memory).exp();
+        self.evidence = self.evidence * keep + unit * vote;
         let mut heading = candidate;
         let mut turned = false;
         if self.evidence < 0.0 {
@@ -211,10 +219,18 @@ impl Facing {
         self.reference[0] += g * (heading.cos() - self.reference[0]);
         self.reference[1] += g * (heading.sin() - self.reference[1]);
         let exchange = (heading - labelled).cos() < 0.0;
+        // The labels alone, agreeing frame after frame at this step, build `unit / (1 - keep)`.
+        let labels_alone = if keep < 1.0 {
+            unit / (1.0 - keep)
+        } else {
+            f64::INFINITY
+        };
         Decision {
             exchange,
             turned,
             heading,
+            evidence: self.evidence * UNIT_STEP,
+            confident: self.evidence > labels_alone,
         }
     }
 }
@@ -376,6 +392,48 @@ mod tests {
             }
             assert!(error(last.heading, want) < 1e-12, "knees {knees:?}");
         }
+    }
+
+    #[test]
+    fn only_a_cue_beside_the_labels_makes_the_heading_confident() {
+        // Ten seconds of unanimous labels at 25 and at 30 frames per second: the evidence
+        // approaches the memory's worth and the heading never becomes confident.
+        let config = FacingConfig::default();
+        for fps in [25.0, 30.0] {
+            let mut facing = Facing::default();
+            let mut last = Decision::default();
+            for k in 0..(10.0 * fps) as usize {
+                let now = cues(0.3, [2.0, 0.0, 1.0], None);
+                last = facing.decide(k as f64 / fps, &now, &config);
+                assert!(!last.confident, "fps {fps} frame {k}");
+            }
+            assert!(
+                (last.evidence - config.memory).abs() < 0.05 * config.memory,
+                "{last:?}"
+            );
+        }
+        // A nose that agrees as well: three votes a frame build 3 (1 - keep^k) / (1 - keep)
+        // after k frames (keep = exp(-0.04 s / memory)), more than the labels' 1 / (1 - keep)
+        // once keep^k < 2/3: from the eleventh frame (0.4 s).
+        let mut facing = Facing::default();
+        let mut confident_at = None;
+        for k in 0..50 {
+            let d = facing.decide(
+                k as f64 / 25.0,
+                &cues(0.3, [2.0, 0.0, 1.0], Some(0.3)),
+                &config,
+            );
+            if d.confident && confident_at.is_none() {
+                confident_at = Some(k);
+            }
+        }
+        let k = (1.5f64.ln() / (0.04 / config.memory)).ceil() as usize;
+        assert_eq!(confident_at, Some(k - 1));
+        // A track that has just turned round holds only the margin it turned by.
+        let mut facing = Facing::default();
+        let born = facing.decide(0.0, &cues(0.3 + PI, [2.0, 0.0, 1.0], None), &config);
+        let turned = facing.decide(0.04, &cues(0.3, [2.0, 0.0, 1.0], Some(0.3)), &config);
+        assert!(!born.confident && turned.turned && !turned.confident);
     }
 
     #[test]

@@ -158,6 +158,16 @@ impl Observation {
         self.inner.reoriented
     }
 
+    #[getter]
+    fn facing_evidence(&self) -> f64 {
+        self.inner.facing_evidence
+    }
+
+    #[getter]
+    fn heading_confident(&self) -> bool {
+        self.inner.heading_confident
+    }
+
     /// (17, 3) joints after the swap and the gate, NaN where lost.
     #[getter]
     fn joints<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {

@@ -223,6 +223,8 @@ impl Person {
             estimate,
             swapped,
             reoriented: decision.turned,
+            facing_evidence: decision.evidence,
+            heading_confident: decision.confident,
             joints,
             completed,
             status,

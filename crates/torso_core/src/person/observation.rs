@@ -60,6 +60,12 @@ pub struct Observation {
     /// The track turned round in this frame: the cues said it had been facing the wrong way,
     /// and its history was turned round with it.
     pub reoriented: bool,
+    /// The track's weighed evidence for its heading after this frame, in seconds of the
+    /// labels' agreement (0 where the frame had no heading; [`crate::sides::Decision`]).
+    pub facing_evidence: f64,
+    /// The heading's side is confirmed by a cue other than the detector's labels: more evidence
+    /// than the labels alone can build ([`crate::sides::Decision::confident`]).
+    pub heading_confident: bool,
     /// The joints after the swap, the depth completion and the gate (NaN where lost).
     pub joints: Joints,
     /// Joints whose measured depth was replaced by the one the learned pair width gives (a far
