@@ -51,7 +51,8 @@ def headline(t: dict[str, Any]) -> list[str]:
         f"Torso estimates for {_pct(rec['estimated'])} of the visible person-frames; front/back flips "
         f"(azimuth error over {FLIP_DEG:g} degrees) in {_pct(rec['flips'])} of them"
         + (f", {_pct(worst['flips'])} in the worst view bin ({worst['group']} degrees)" if worst else "")
-        + f"; azimuth error median {_f(rec['azimuth_median'])}, "
+        + f"; {_pct(rec['flips_confident'])} of the {_pct(rec['confident'])} whose heading a cue other than "
+        "the labels confirms (`heading_confident`)" + f"; azimuth error median {_f(rec['azimuth_median'])}, "
         f"90th percentile {_f(rec['azimuth_p90'])} degrees.",
         "",
         "| median error | " + " | ".join(_h(r["horizon"]) for r in t["forecasts"]["all"]) + " |",
@@ -72,11 +73,15 @@ def failures(t: dict[str, Any]) -> list[str]:
     rec = t["recovery"]
     all_flips = rec["all"][0]["flips"]
     bad_views = [r for r in rec["view"] if np.isfinite(r["flips"]) and r["flips"] > 0]
+    sure = rec["all"][0]
+    sure_views = [r["flips_confident"] for r in rec["view"] if np.isfinite(r["flips_confident"])]
+    worst_sure = max(sure_views, default=0.0)
     if all_flips > 0:
         lines.append(
             f"- **Front/back flips** in {_pct(all_flips)} of estimated person-frames; by view bin: "
             + ", ".join(f"{r['group']}: {_pct(r['flips'])}" for r in bad_views)
-            + "."
+            + f". Where the heading is confident ({_pct(sure['confident'])} of them): "
+            + f"{_pct(sure['flips_confident'])}, {_pct(worst_sure)} in the worst view bin."
         )
     else:
         lines.append("- No front/back flip (no azimuth error over 90 degrees).")
@@ -101,9 +106,9 @@ def failures(t: dict[str, Any]) -> list[str]:
 
 def _recovery_md(rows: list[dict[str, Any]], axis: str) -> list[str]:
     out = [
-        f"| {AXIS_NAMES[axis]} | person-frames | estimated | flips | azimuth median / mean / p90 (deg) "
-        "| elevation median / mean / p90 (deg) | X / Y / Z mean (cm) |",
-        "|---|---:|---:|---:|---:|---:|---:|",
+        f"| {AXIS_NAMES[axis]} | person-frames | estimated | flips | confident: share / flips "
+        "| azimuth median / mean / p90 (deg) | elevation median / mean / p90 (deg) | X / Y / Z mean (cm) |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for r in rows:
         az = " / ".join(_f(r[f"azimuth_{s}"]) for s in ("median", "mean", "p90"))
@@ -111,7 +116,7 @@ def _recovery_md(rows: list[dict[str, Any]], axis: str) -> list[str]:
         xyz = " / ".join(_f(r[f"{a}_mean"], 0) for a in "xyz")
         out.append(
             f"| {r['group']} | {r['person_frames']} | {_pct(r['estimated'])} | {_pct(r['flips'])} "
-            f"| {az} | {el} | {xyz} |"
+            f"| {_pct(r['confident'])} / {_pct(r['flips_confident'])} | {az} | {el} | {xyz} |"
         )
     return out
 

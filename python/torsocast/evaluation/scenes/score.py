@@ -134,6 +134,7 @@ class Scorer:
             r = self.score.recovery
             self._row(r, actor, t, truth[actor])
             r["estimated"].append(pose is not None)
+            r["confident"].append(pose is not None and bool(person and person.observation.heading_confident))
             err = np.abs(pose - truth[actor]) if pose is not None else np.full(5, np.nan)
             err[3] = abs(float(wrap_angle(err[3])))
             for name, value in zip(POSE_COMPONENTS, err):

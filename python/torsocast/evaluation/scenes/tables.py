@@ -82,6 +82,10 @@ def recovery_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
             "estimated": float(est.sum() / max(mask.sum(), 1)),
             "flips": float((az > FLIP_DEG).mean()) if len(az) else float("nan"),
         }
+        # A frame whose heading a cue other than the labels confirms: what a robot may trust.
+        sure = cols["confident"][est].astype(bool)
+        row["confident"] = float(sure.mean()) if len(az) else float("nan")
+        row["flips_confident"] = float((az[sure] > FLIP_DEG).mean()) if sure.any() else float("nan")
         for name, values in (("azimuth", az), ("elevation", el)):
             for stat, f in STATS.items():
                 row[f"{name}_{stat}"] = f(values) if len(values) else float("nan")
