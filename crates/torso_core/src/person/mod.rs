@@ -182,6 +182,7 @@ impl Person {
                 *s = 0.0;
             }
         }
+        occlusion::drop_torso_outlier(&mut joints);
         let mut completed = self.complete_occluded(&mut joints, camera_position);
         let mut decision = Decision::default();
         if let Some((labelled, centre)) = labelled_heading(&joints) {
@@ -492,7 +493,7 @@ pub fn wrap_angle(angle: f64) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::occlusion::{behind_on_ray, PAIRS};
+    use super::occlusion::{behind_on_ray, drop_torso_outlier, PAIRS};
     use super::*;
     use crate::coco::{LEFT_HIP, LEFT_SHOULDER, NOSE, RIGHT_HIP, RIGHT_SHOULDER};
     use crate::sides::FacingConfig;
@@ -775,6 +776,38 @@ mod tests {
             behind_on_ray(camera, [2.0, -1.0, 1.0], near, 0.35),
             [2.0, -1.0, 1.0]
         );
+    }
+
+    #[test]
+    fn a_torso_joint_read_off_someone_in_front_is_dropped_and_a_broad_torso_is_not() {
+        // Facing the camera 4 m away; the right shoulder's keypoint lands on a person 1.5 m
+        // nearer the camera. With it the plane would turn by tens of degrees; dropped, the
+        // other three give the azimuth exactly.
+        let (mut joints, scores) = person([4.0, 0.0, 1.0], PI, true);
+        joints[RIGHT_SHOULDER][0] -= 1.5;
+        let mut probe = joints;
+        assert_eq!(drop_torso_outlier(&mut probe), Some(RIGHT_SHOULDER));
+        let obs = Person::new(PersonConfig::default())
+            .unwrap()
+            .update(0.0, &joints, &scores, CAMERA)
+            .unwrap();
+        assert_eq!(obs.estimate, Estimate::Plane);
+        assert!(angle_error(obs.pose.unwrap()[AZIMUTH], PI) < 1e-9);
+        // Shoulders 0.5 m and hips 0.35 m apart, in any view: nothing lies beyond the spread.
+        for yaw in [0.0, 0.7, PI / 2.0, 2.5] {
+            let (mut broad, _) = person([3.0, 1.0, 1.0], yaw, true);
+            for (joint, scale) in [(LEFT_SHOULDER, 1.25), (RIGHT_SHOULDER, 1.25)]
+                .into_iter()
+                .chain([(LEFT_HIP, 35.0 / 24.0), (RIGHT_HIP, 35.0 / 24.0)])
+            {
+                for k in 0..2 {
+                    let centre = [3.0, 1.0][k];
+                    broad[joint][k] = centre + scale * (broad[joint][k] - centre);
+                }
+            }
+            assert!(distance(broad[LEFT_SHOULDER], broad[RIGHT_SHOULDER]) > 0.49);
+            assert_eq!(drop_torso_outlier(&mut broad), None, "yaw {yaw}");
+        }
     }
 
     #[test]
