@@ -1,10 +1,12 @@
 """Do the keypoint models see the rendered people as they see real ones?
 
 For one model, the mean keypoint score of the face (nose, eyes, ears), the shoulders and the
-hips in front, profile and back views, on the real turntable sequence (a person turning through
-360 degrees, with the turn measured) and on single people rendered by the benchmark. A model
-that finds a face on the back of a real head and not on the mannequin's (or the reverse) would
-make the benchmark's flip rates a property of the renderer rather than of torsocast.
+hips in front, profile and back views, and how often the shoulders are labelled the right way
+round, on the real turntable sequence (a person turning through 360 degrees, with the turn
+measured) and on single people rendered by the benchmark. A model that finds a face on the back
+of a real head and not on the mannequin's, or that labels the sides of one and not the other
+(or the reverse), would make the benchmark's flip rates a property of the renderer rather than
+of torsocast.
 
 ``python -m torsocast.evaluation.scenes.realism --turntable DIR [--yolo PATH]`` prints the tables.
 """
@@ -59,14 +61,26 @@ def rendered_views(
                 yield frame.color, view_angle(frame.extra["truth"][0], camera), frame.extra["labels"]
 
 
-def mean_scores(samples: dict[str, list[F64]]) -> dict[str, dict[str, float]]:
-    """View -> keypoint group -> mean score (and ``frames``)."""
+def sides_right(keypoints: F64, view: str, min_score: float = 0.3) -> float:
+    """Share of the detections ``(n, 17, 3)`` whose shoulders, both scored at least
+    ``min_score``, are labelled the right way round in the image: the left shoulder on the
+    camera's right from the front, on its left from behind (NaN for profile views, or none)."""
+    if view == "profile":
+        return float("nan")
+    seen = (keypoints[:, [5, 6], 2] >= min_score).all(axis=1)
+    left_on_right = keypoints[seen, 5, 0] > keypoints[seen, 6, 0]
+    return float(np.mean(left_on_right == (view == "front"))) if seen.any() else float("nan")
+
+
+def summarise(samples: dict[str, list[F64]]) -> dict[str, dict[str, float]]:
+    """View -> keypoint group -> mean score, ``sides`` (:func:`sides_right`) and ``frames``."""
     out = {}
     for view in VIEWS:
-        rows = np.array(samples.get(view, [])).reshape(-1, 17)
+        rows = np.array(samples.get(view, [])).reshape(-1, 17, 3)
         out[view] = {
-            g: float(rows[:, list(i)].mean()) if len(rows) else float("nan") for g, i in GROUPS.items()
+            g: float(rows[:, list(i), 2].mean()) if len(rows) else float("nan") for g, i in GROUPS.items()
         }
+        out[view]["sides"] = sides_right(rows, view)
         out[view]["frames"] = float(len(rows))
     return out
 
@@ -74,32 +88,33 @@ def mean_scores(samples: dict[str, list[F64]]) -> dict[str, dict[str, float]]:
 def measure(
     model: KeypointModel, turntable: str | Path | None, catalogue: Catalogue, seed: int = 0, scenes: int = 12
 ) -> dict[str, dict[str, dict[str, float]]]:
-    """``{"turntable": ..., "rendered": ...}`` mean scores of the most confident detection on the
-    turntable and of the detection on the rendered person."""
+    """``{"turntable": ..., "rendered": ...}`` (:func:`summarise`) of the most confident
+    detection on the turntable and of the detection on the rendered person."""
     real: dict[str, list[F64]] = {}
     if turntable is not None:
         for image, view in turntable_views(turntable):
             found = model(image)
             if len(found):
-                real.setdefault(view_class(view), []).append(found.keypoints[0, :, 2])
+                real.setdefault(view_class(view), []).append(found.keypoints[0])
     rendered: dict[str, list[F64]] = {}
     for image, view, labels in rendered_views(catalogue, seed, scenes):
         found = model(image)
         owner = assign(found.keypoints, labels, 0.3)
         if 0 in owner:
-            rendered.setdefault(view_class(view), []).append(found.keypoints[owner.index(0), :, 2])
-    return {"turntable": mean_scores(real), "rendered": mean_scores(rendered)}
+            rendered.setdefault(view_class(view), []).append(found.keypoints[owner.index(0)])
+    return {"turntable": summarise(real), "rendered": summarise(rendered)}
 
 
 def markdown(name: str, scores: dict[str, dict[str, dict[str, float]]]) -> str:
+    columns = [*GROUPS, "sides"]
     lines = [
-        f"| {name} | frames | " + " | ".join(GROUPS) + " |",
-        "|---|---:|" + "---:|" * len(GROUPS),
+        f"| {name} | frames | " + " | ".join(GROUPS) + " | sides right |",
+        "|---|---:|" + "---:|" * len(columns),
     ]
     for source, by_view in scores.items():
         for view in VIEWS:
             s = by_view[view]
-            cells = " | ".join("–" if not np.isfinite(s[g]) else f"{s[g]:.2f}" for g in GROUPS)
+            cells = " | ".join("–" if not np.isfinite(s[g]) else f"{s[g]:.2f}" for g in columns)
             lines.append(f"| {source}, {view} | {int(s['frames'])} | {cells} |")
     return "\n".join(lines)
 
