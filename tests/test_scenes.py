@@ -15,7 +15,7 @@ from torsocast import wrap_angle
 from torsocast.cli import main
 from torsocast.datasets import cmu
 from torsocast.evaluation.scenes.score import assign, view_angle
-from torsocast.evaluation.scenes.tables import distance_bin, view_bin
+from torsocast.evaluation.scenes.tables import distance_bin, scene_interval, view_bin
 from torsocast.keypoints import open_model
 from torsocast.pipeline import Pipeline
 from torsocast.synthetic.motions import Motion
@@ -160,6 +160,19 @@ def test_view_and_distance_bins():
         "3-4 m",
         "4 m and more",
     ]
+
+
+def test_a_flip_rate_interval_resamples_scenes_not_frames():
+    # Two scenes of 50 frames, one never flipped and one always: drawing two scenes gives 0,
+    # 0.5 or 1 with chances 1/4, 1/2, 1/4, so the central 90 % runs from 0 to 1 (frames drawn
+    # one by one would have given about 0.5 +- 0.06).
+    scenes = np.repeat(["a", "b"], 50)
+    hits = np.repeat([False, True], 50)
+    assert scene_interval(scenes, hits) == (0.0, 1.0)
+    # Ten scenes at the same rate: no spread whatever is drawn; none: no interval.
+    same = np.tile([True, False, False, False], 10)
+    assert scene_interval(np.repeat(np.arange(10), 4), same) == pytest.approx((0.25, 0.25))
+    assert all(np.isnan(scene_interval(np.array([]), np.array([], dtype=bool))))
 
 
 def recover(spec, motion, model):

@@ -12,7 +12,7 @@ import numpy as np
 
 from .run import Benchmark
 from .score import COMPONENTS, METHODS
-from .tables import CHECKED_AXES, FLIP_DEG, UNIT, checked_cells, losses, tables
+from .tables import CHECKED_AXES, FLIP_DEG, INTERVAL, UNIT, checked_cells, losses, tables
 
 METHOD_NAMES = {
     "forecast": "torsocast",
@@ -38,6 +38,11 @@ def _pct(value: float) -> str:
     return "–" if not np.isfinite(value) else f"{100 * value:.1f} %"
 
 
+def _interval(row: dict[str, Any]) -> str:
+    """A flip rate's scene-bootstrap interval (:func:`~.tables.scene_interval`)."""
+    return f"{100 * INTERVAL:g} % interval {_pct(row['flips_low'])} to {_pct(row['flips_high'])}"
+
+
 def _h(h: float) -> str:
     return f"{h:g} s"
 
@@ -49,7 +54,8 @@ def headline(t: dict[str, Any]) -> list[str]:
     worst = max(views, key=lambda r: r["flips"] if np.isfinite(r["flips"]) else -1) if views else None
     lines = [
         f"Torso estimates for {_pct(rec['estimated'])} of the visible person-frames; front/back flips "
-        f"(azimuth error over {FLIP_DEG:g} degrees) in {_pct(rec['flips'])} of them"
+        f"(azimuth error over {FLIP_DEG:g} degrees) in {_pct(rec['flips'])} of them "
+        f"({_interval(rec)} over the scenes drawn again)"
         + (f", {_pct(worst['flips'])} in the worst view bin ({worst['group']} degrees)" if worst else "")
         + f"; {_pct(rec['flips_confident'])} of the {_pct(rec['confident'])} whose heading a cue other than "
         "the labels confirms (`heading_confident`)" + f"; azimuth error median {_f(rec['azimuth_median'])}, "
@@ -78,7 +84,8 @@ def failures(t: dict[str, Any]) -> list[str]:
     worst_sure = max(sure_views, default=0.0)
     if all_flips > 0:
         lines.append(
-            f"- **Front/back flips** in {_pct(all_flips)} of estimated person-frames; by view bin: "
+            f"- **Front/back flips** in {_pct(all_flips)} of estimated person-frames "
+            f"({_interval(sure)} over the scenes drawn again); by view bin: "
             + ", ".join(f"{r['group']}: {_pct(r['flips'])}" for r in bad_views)
             + f". Where the heading is confident ({_pct(sure['confident'])} of them): "
             + f"{_pct(sure['flips_confident'])}, {_pct(worst_sure)} in the worst view bin."

@@ -26,6 +26,10 @@ STATS: dict[str, Callable[[np.ndarray], float]] = {
     "mean": lambda v: float(np.mean(v)),
     "p90": lambda v: float(np.percentile(v, 90)),
 }
+#: Resamples of the scenes behind a flip rate's interval (:func:`scene_interval`).
+BOOTSTRAP = 1000
+#: Central coverage of that interval.
+INTERVAL = 0.9
 #: Centre errors are reported in cm, angles in degrees.
 SCALE = {"centre": 100.0, "azimuth": float(np.degrees(1.0)), "elevation": float(np.degrees(1.0))}
 UNIT = {"centre": "cm", "azimuth": "deg", "elevation": "deg"}
@@ -68,6 +72,23 @@ def groups(cols: Columns, axis: str | None) -> list[tuple[str, np.ndarray]]:
     return [(str(v), values == v) for v in _order(axis, values)]
 
 
+def scene_interval(scenes: np.ndarray, hits: np.ndarray, seed: int = 0) -> tuple[float, float]:
+    """Central :data:`INTERVAL` interval of the share of ``hits`` when the scenes are drawn again
+    with replacement (:data:`BOOTSTRAP` times): frames of one scene err together (one person's
+    track, one crowd), so the scene, not the frame, is the unit a rate varies by. ``scenes`` and
+    ``hits`` are per frame; NaN for no frame."""
+    if len(hits) == 0:
+        return float("nan"), float("nan")
+    _, index = np.unique(scenes, return_inverse=True)
+    frames = np.bincount(index).astype(float)
+    counts = np.bincount(index, weights=hits.astype(float))
+    draws = np.random.default_rng(seed).integers(0, len(frames), (BOOTSTRAP, len(frames)))
+    rates = counts[draws].sum(axis=1) / frames[draws].sum(axis=1)
+    tail = 100 * (1 - INTERVAL) / 2
+    low, high = np.percentile(rates, [tail, 100 - tail])
+    return float(low), float(high)
+
+
 def recovery_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
     """Per group: person-frames, share with an estimate, flip rate and the thesis' tables 5.1
     and 5.2 errors (centre X/Y/Z in cm, azimuth and elevation in degrees) over the estimated."""
@@ -86,6 +107,7 @@ def recovery_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
         sure = cols["confident"][est].astype(bool)
         row["confident"] = float(sure.mean()) if len(az) else float("nan")
         row["flips_confident"] = float((az[sure] > FLIP_DEG).mean()) if sure.any() else float("nan")
+        row["flips_low"], row["flips_high"] = scene_interval(cols["scene"][est], az > FLIP_DEG)
         for name, values in (("azimuth", az), ("elevation", el)):
             for stat, f in STATS.items():
                 row[f"{name}_{stat}"] = f(values) if len(values) else float("nan")
