@@ -175,6 +175,37 @@ def test_a_flip_rate_interval_resamples_scenes_not_frames():
     assert all(np.isnan(scene_interval(np.array([]), np.array([], dtype=bool))))
 
 
+def test_two_runs_compare_by_the_same_draws_of_their_scenes(tmp_path, capsys):
+    # Twenty scenes of ten frames; the second run flips one more frame in every scene, which no
+    # draw of the scenes can hide; the first run against itself changes nothing at all.
+    def write(folder, flipped_per_scene):
+        folder.mkdir()
+        with (folder / "recovery.csv").open("w") as f:
+            f.write("scene,t,actor,estimated,confident,azimuth\n")
+            for scene in range(20):
+                for k in range(10):
+                    azimuth = 3.0 if k < flipped_per_scene[scene] else 0.1
+                    f.write(f"s{scene:02d},{k / 10},0,True,True,{azimuth}\n")
+
+    rng = np.random.default_rng(1)
+    base = rng.integers(0, 3, 20)
+    write(tmp_path / "a", base)
+    write(tmp_path / "b", base + 1)
+    assert main(["eval", "compare", str(tmp_path / "a"), str(tmp_path / "b")]) == 0
+    out = capsys.readouterr().out
+    assert "| flips | " in out and "+10.00 points | +10.00 to +10.00 |" in out
+    assert "larger than the draw of scenes explains" in out
+    assert main(["eval", "compare", str(tmp_path / "a"), str(tmp_path / "a")]) == 0
+    assert "+0.00 to +0.00" in capsys.readouterr().out
+    # Runs of other frames, or a folder without a record, are one line and exit code 2.
+    (tmp_path / "c").mkdir()
+    (tmp_path / "c" / "recovery.csv").write_text("scene,t,actor,estimated,azimuth\nx,0,0,True,0\n")
+    assert main(["eval", "compare", str(tmp_path / "a"), str(tmp_path / "c")]) == 2
+    assert main(["eval", "compare", str(tmp_path / "a"), str(tmp_path / "none")]) == 2
+    err = capsys.readouterr().err
+    assert "different scenes or frames" in err and "recovery.csv" in err
+
+
 def recover(spec, motion, model):
     """Per frame after the first: (centre error along x, y, z in m; azimuth, elevation error in deg)."""
     scene = RenderedScene(spec, {motion.name: motion})

@@ -171,6 +171,18 @@ def _eval_scenes(args: argparse.Namespace) -> int:
     return 0
 
 
+def _eval_compare(args: argparse.Namespace) -> int:
+    from .evaluation.scenes.compare import compare, markdown, read
+
+    try:
+        result = compare(read(args.before), read(args.after))
+    except (OSError, ValueError, KeyError) as e:
+        print(f"torsocast eval compare: {e}", file=sys.stderr)
+        return 2
+    print(markdown(result))
+    return 0
+
+
 def _run(args: argparse.Namespace) -> int:
     from .keypoints import open_model
     from .run import run
@@ -362,6 +374,13 @@ def main(argv: list[str] | None = None) -> int:
         help="keep each scene's detections here and replay them on later runs (for changes after the model)",
     )
     sc.set_defaults(run=_eval_scenes)
+    cp = ev_sub.add_parser(
+        "compare",
+        help="two runs of eval scenes on the same scenes: the change in flips and its interval",
+    )
+    cp.add_argument("before", help="the --out folder of the first run")
+    cp.add_argument("after", help="the --out folder of the second run")
+    cp.set_defaults(run=_eval_compare)
     fc.set_defaults(run=_forecast)
     args = parser.parse_args(argv)
     try:

@@ -72,21 +72,33 @@ def groups(cols: Columns, axis: str | None) -> list[tuple[str, np.ndarray]]:
     return [(str(v), values == v) for v in _order(axis, values)]
 
 
+def scene_draws(scenes: np.ndarray, hits: np.ndarray, seed: int = 0) -> np.ndarray:
+    """The share of ``hits`` (per frame) in each of :data:`BOOTSTRAP` draws of the scenes with
+    replacement. Scenes are numbered in sorted order, so two runs over the same scenes with the
+    same ``seed`` get the same draws (a paired comparison)."""
+    _, index = np.unique(scenes, return_inverse=True)
+    frames = np.bincount(index).astype(float)
+    counts = np.bincount(index, weights=hits.astype(float), minlength=len(frames))
+    draws = np.random.default_rng(seed).integers(0, len(frames), (BOOTSTRAP, len(frames)))
+    with np.errstate(invalid="ignore"):
+        return counts[draws].sum(axis=1) / frames[draws].sum(axis=1)
+
+
+def central(values: np.ndarray) -> tuple[float, float]:
+    """The central :data:`INTERVAL` of ``values``."""
+    tail = 100 * (1 - INTERVAL) / 2
+    low, high = np.nanpercentile(values, [tail, 100 - tail])
+    return float(low), float(high)
+
+
 def scene_interval(scenes: np.ndarray, hits: np.ndarray, seed: int = 0) -> tuple[float, float]:
     """Central :data:`INTERVAL` interval of the share of ``hits`` when the scenes are drawn again
-    with replacement (:data:`BOOTSTRAP` times): frames of one scene err together (one person's
+    with replacement (:func:`scene_draws`): frames of one scene err together (one person's
     track, one crowd), so the scene, not the frame, is the unit a rate varies by. ``scenes`` and
     ``hits`` are per frame; NaN for no frame."""
     if len(hits) == 0:
         return float("nan"), float("nan")
-    _, index = np.unique(scenes, return_inverse=True)
-    frames = np.bincount(index).astype(float)
-    counts = np.bincount(index, weights=hits.astype(float))
-    draws = np.random.default_rng(seed).integers(0, len(frames), (BOOTSTRAP, len(frames)))
-    rates = counts[draws].sum(axis=1) / frames[draws].sum(axis=1)
-    tail = 100 * (1 - INTERVAL) / 2
-    low, high = np.percentile(rates, [tail, 100 - tail])
-    return float(low), float(high)
+    return central(scene_draws(scenes, hits, seed))
 
 
 def recovery_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
