@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from .tables import FLIP_DEG, INTERVAL, Columns, central, scene_draws
+from .tables import FLIP_DEG, INTERVAL, Columns, central, scene_draws, scene_percentile_draws
 
 #: The rows of the two runs must describe the same person-frames.
 KEYS = ("scene", "t", "actor")
@@ -42,14 +42,21 @@ def _flips(cols: Columns) -> tuple[np.ndarray, np.ndarray]:
 
 
 def compare(before: Columns, after: Columns) -> dict[str, Any]:
-    """Flip rates of both runs over their estimates, their difference and its paired interval;
-    the same for the headings each calls confident, where both runs recorded it. Refuses runs of
-    different person-frames."""
+    """Per measure, both runs' values, their difference and its paired interval: the flip rate
+    over the estimates, over the headings each run calls confident (where both recorded it),
+    and the azimuth error's median and 90th percentile (degrees). Refuses runs of different
+    person-frames."""
     for key in KEYS:
         if len(before[key]) != len(after[key]) or (before[key] != after[key]).any():
             raise ValueError(f"the runs are of different scenes or frames (their {key!r} columns differ)")
-    out: dict[str, Any] = {"scenes": len(np.unique(before["scene"]))}
-    scenes = before["scene"]
+    names, index = np.unique(before["scene"], return_inverse=True)
+    out: dict[str, Any] = {"scenes": len(names)}
+
+    def record(name: str, values: list[float], draws: list[np.ndarray]) -> None:
+        low, high = central(draws[1] - draws[0])
+        out[name] = {"before": values[0], "after": values[1], "change": values[1] - values[0]}
+        out[name]["low"], out[name]["high"] = low, high
+
     measures = [("flips", None)]
     if "confident" in before and "confident" in after:
         measures.append(("flips_confident", "confident"))
@@ -59,23 +66,36 @@ def compare(before: Columns, after: Columns) -> dict[str, Any]:
             estimated, flipped = _flips(cols)
             counted = estimated if pick is None else estimated & (cols[pick] == "True")
             rates.append(float(flipped[counted].mean()) if counted.any() else float("nan"))
-            draws.append(scene_draws(scenes[counted], flipped[counted]))
-        out[name] = {"before": rates[0], "after": rates[1], "change": rates[1] - rates[0]}
-        out[name]["low"], out[name]["high"] = central(draws[1] - draws[0])
+            draws.append(scene_draws(index[counted], len(names), flipped[counted]))
+        record(name, rates, draws)
+    for name, q in (("azimuth_median", 50.0), ("azimuth_p90", 90.0)):
+        values, draws = [], []
+        for cols in (before, after):
+            estimated, _ = _flips(cols)
+            error = np.degrees(cols["azimuth"][estimated].astype(float))
+            values.append(float(np.percentile(error, q)) if len(error) else float("nan"))
+            draws.append(scene_percentile_draws(index[estimated], len(names), error, q))
+        record(name, values, draws)
     return out
 
 
 def markdown(result: dict[str, Any]) -> str:
-    """The comparison as a Markdown table, with a line saying what it means."""
+    """The comparison as a Markdown table, with a line saying what it means for the flips."""
     head = f"| {result['scenes']} scenes | before | after | change | its {100 * INTERVAL:g} % interval |"
     lines = [head, "|---|---:|---:|---:|---:|"]
-    for name, label in (("flips", "flips"), ("flips_confident", "flips where confident")):
+    rows = (
+        ("flips", "flips (%)", 100.0),
+        ("flips_confident", "flips where confident (%)", 100.0),
+        ("azimuth_median", "azimuth error median (deg)", 1.0),
+        ("azimuth_p90", "azimuth error 90th percentile (deg)", 1.0),
+    )
+    for name, label, scale in rows:
         if name not in result:
             continue
         r = result[name]
-        before, after = (f"{100 * r[k]:.2f} %" for k in ("before", "after"))
-        change, low, high = (f"{100 * r[k]:+.2f}" for k in ("change", "low", "high"))
-        lines.append(f"| {label} | {before} | {after} | {change} points | {low} to {high} |")
+        before, after = (f"{scale * r[k]:.2f}" for k in ("before", "after"))
+        change, low, high = (f"{scale * r[k]:+.2f}" for k in ("change", "low", "high"))
+        lines.append(f"| {label} | {before} | {after} | {change} | {low} to {high} |")
     r = result["flips"]
     verdict = (
         "the change in flips is larger than the draw of scenes explains"

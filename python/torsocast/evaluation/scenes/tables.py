@@ -72,20 +72,45 @@ def groups(cols: Columns, axis: str | None) -> list[tuple[str, np.ndarray]]:
     return [(str(v), values == v) for v in _order(axis, values)]
 
 
-def scene_draws(scenes: np.ndarray, hits: np.ndarray, seed: int = 0) -> np.ndarray:
-    """The share of ``hits`` (per frame) in each of :data:`BOOTSTRAP` draws of the scenes with
-    replacement. Scenes are numbered in sorted order, so two runs over the same scenes with the
-    same ``seed`` get the same draws (a paired comparison)."""
-    _, index = np.unique(scenes, return_inverse=True)
-    frames = np.bincount(index).astype(float)
-    counts = np.bincount(index, weights=hits.astype(float), minlength=len(frames))
-    draws = np.random.default_rng(seed).integers(0, len(frames), (BOOTSTRAP, len(frames)))
+def _draws(scenes: int, seed: int) -> np.ndarray:
+    """(:data:`BOOTSTRAP`, scenes) counts: how many times each scene is in each draw of
+    ``scenes`` scenes with replacement. The same ``seed`` and count give the same draws, so two
+    runs over the same scenes can be compared draw by draw."""
+    picks = np.random.default_rng(seed).integers(0, scenes, (BOOTSTRAP, scenes))
+    return np.stack([np.bincount(row, minlength=scenes) for row in picks]).astype(float)
+
+
+def scene_draws(index: np.ndarray, scenes: int, hits: np.ndarray, seed: int = 0) -> np.ndarray:
+    """The share of ``hits`` in each draw of the scenes (:func:`_draws`); ``index`` numbers each
+    frame's scene (0 to ``scenes`` - 1). NaN for a draw without a frame."""
+    frames = np.bincount(index, minlength=scenes).astype(float)
+    counts = np.bincount(index, weights=hits.astype(float), minlength=scenes)
+    weights = _draws(scenes, seed)
     with np.errstate(invalid="ignore"):
-        return counts[draws].sum(axis=1) / frames[draws].sum(axis=1)
+        return (weights @ counts) / (weights @ frames)
+
+
+def scene_percentile_draws(
+    index: np.ndarray, scenes: int, values: np.ndarray, q: float, seed: int = 0
+) -> np.ndarray:
+    """The ``q``-th percentile (0 to 100) of ``values`` in each draw of the scenes: every frame
+    weighted by how often its scene was drawn (the lower value at a tie)."""
+    order = np.argsort(values, kind="stable")
+    sorted_values, sorted_index = values[order], index[order]
+    out = np.full(BOOTSTRAP, np.nan)
+    weights = _draws(scenes, seed)
+    for start in range(0, BOOTSTRAP, 100):  # 100 draws at a time bounds the memory
+        w = weights[start : start + 100][:, sorted_index]
+        cumulative = np.cumsum(w, axis=1)
+        total = cumulative[:, -1:] if len(values) else np.zeros((len(w), 1))
+        at = (cumulative < q / 100 * total).sum(axis=1)
+        good = total[:, 0] > 0
+        out[start : start + 100][good] = sorted_values[np.minimum(at[good], len(values) - 1)]
+    return out
 
 
 def central(values: np.ndarray) -> tuple[float, float]:
-    """The central :data:`INTERVAL` of ``values``."""
+    """The central :data:`INTERVAL` of ``values`` (NaN ignored)."""
     tail = 100 * (1 - INTERVAL) / 2
     low, high = np.nanpercentile(values, [tail, 100 - tail])
     return float(low), float(high)
@@ -98,7 +123,8 @@ def scene_interval(scenes: np.ndarray, hits: np.ndarray, seed: int = 0) -> tuple
     ``hits`` are per frame; NaN for no frame."""
     if len(hits) == 0:
         return float("nan"), float("nan")
-    return central(scene_draws(scenes, hits, seed))
+    names, index = np.unique(scenes, return_inverse=True)
+    return central(scene_draws(index, len(names), hits, seed))
 
 
 def recovery_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
