@@ -16,7 +16,9 @@
 //! - the motion: people mostly face where they walk, when they walk fast enough to tell.
 //!
 //! When the weighed evidence turns against the heading, the track turns round: the heading and
-//! everything the track remembers of the body's sides are reversed.
+//! everything the track remembers of the body's sides are reversed. The labels alone, however
+//! long they agree, build about a memory's worth of evidence; a heading with more than that has
+//! been confirmed recently by another cue, and is reported confident.
 
 use crate::coco::{self, Joints};
 use crate::vec3::finite;

@@ -111,10 +111,10 @@ pub(super) fn drop_torso_outlier(joints: &mut Joints) -> Option<usize> {
         let centre = [0, 1].map(|axis| median3(others.map(|p| p[axis])));
         (torso[i][0] - centre[0]).hypot(torso[i][1] - centre[1])
     };
-    let (worst, far) =
-        (0..4)
-            .map(|i| (i, spread(i)))
-            .fold((0, 0.0), |best, x| if x.1 > best.1 { x } else { best });
+    let (worst, far) = (0..4)
+        .map(|i| (i, spread(i)))
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .expect("four torso joints");
     (far > MAX_TORSO_SPREAD).then(|| {
         joints[TORSO[worst]] = [f64::NAN; 3];
         TORSO[worst]
