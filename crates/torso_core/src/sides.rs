@@ -18,7 +18,8 @@
 //! When the weighed evidence turns against the heading, the track turns round: the heading and
 //! everything the track remembers of the body's sides are reversed. The labels alone, however
 //! long they agree, build about a memory's worth of evidence; a heading with more than that has
-//! been confirmed recently by another cue, and is reported confident.
+//! been confirmed recently by another cue, and is reported confident unless the frame's torso
+//! line lies far across the recent heading (a bad plane).
 
 use crate::coco::{self, Joints};
 use crate::vec3::finite;
@@ -28,6 +29,11 @@ use std::f64::consts::PI;
 const MIN_NOSE_OFFSET: f64 = 0.03;
 /// Knees less than this (m) in front of their hip-to-ankle lines, horizontally, say nothing.
 const MIN_KNEE_OFFSET: f64 = 0.03;
+/// Largest angle (rad) between a frame's heading and the recent heading for the frame to be
+/// confident: beyond it the frame's torso line lies nearer across the recent heading than along
+/// it, far more often a bad plane than a turn that fast. Dev: 45 degrees, 30 was stricter for
+/// a few more frames (docs/benchmark.md).
+const MAX_CONFIDENT_TURN: f64 = std::f64::consts::FRAC_PI_4;
 /// Time constant (s) of the recent heading whose side of the torso line a frame takes.
 const REFERENCE_TIME: f64 = 0.2;
 /// Walking slower than this (m/s) says nothing of the heading; the motion cue reaches its full
@@ -122,7 +128,8 @@ pub struct Decision {
     pub evidence: f64,
     /// The evidence is more than the labels alone can build at this frame rate (about
     /// [`FacingConfig::memory`] seconds' worth, approached and never passed): a cue other
-    /// than the labels (the face, the knees, the walking direction) has agreed recently.
+    /// than the labels (the face, the knees, the walking direction) has agreed recently; and
+    /// the heading lies within [`MAX_CONFIDENT_TURN`] of the recent heading.
     pub confident: bool,
 }
 
@@ -161,6 +168,7 @@ impl Facing {
             knees,
         } = *cues;
         let first = self.heading.is_none();
+        let recent = self.reference; // before this frame moves it
         let (dt, candidate) = match (self.heading, self.last) {
             (Some(h), Some((last_t, _))) => {
                 let reference = self.reference[1].atan2(self.reference[0]);
@@ -232,9 +240,16 @@ impl Facing {
             turned,
             heading,
             evidence: self.evidence * UNIT_STEP,
-            confident: self.evidence > labels_alone,
+            confident: self.evidence > labels_alone && (first || near(heading, recent)),
         }
     }
+}
+
+/// Whether `heading` lies within [`MAX_CONFIDENT_TURN`] of the direction of the recent-heading
+/// vector `recent`.
+fn near(heading: f64, recent: [f64; 2]) -> bool {
+    let along = heading.cos() * recent[0] + heading.sin() * recent[1];
+    along >= MAX_CONFIDENT_TURN.cos() * recent[0].hypot(recent[1])
 }
 
 /// Horizontal direction (azimuth) from the shoulders' midpoint to the nose, where the nose and
@@ -436,6 +451,20 @@ mod tests {
         let born = facing.decide(0.0, &cues(0.3 + PI, [2.0, 0.0, 1.0], None), &config);
         let turned = facing.decide(0.04, &cues(0.3, [2.0, 0.0, 1.0], Some(0.3)), &config);
         assert!(!born.confident && turned.turned && !turned.confident);
+        // Two seconds of labels and nose on 0.3, then one frame whose torso line comes out 60
+        // degrees round (its nose with it): that frame is not confident, the next is again.
+        let mut facing = Facing::default();
+        for k in 0..50 {
+            facing.decide(
+                k as f64 / 25.0,
+                &cues(0.3, [2.0, 0.0, 1.0], Some(0.3)),
+                &config,
+            );
+        }
+        let off = 0.3 + 60f64.to_radians();
+        let bad = facing.decide(2.0, &cues(off, [2.0, 0.0, 1.0], Some(off)), &config);
+        let next = facing.decide(2.04, &cues(0.3, [2.0, 0.0, 1.0], Some(0.3)), &config);
+        assert!(error(bad.heading, off) < 1e-12 && !bad.confident && next.confident);
     }
 
     #[test]
