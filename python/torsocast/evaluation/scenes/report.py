@@ -12,7 +12,7 @@ import numpy as np
 
 from .run import Benchmark
 from .score import COMPONENTS, METHODS
-from .tables import CHECKED_AXES, FLIP_DEG, INTERVAL, UNIT, checked_cells, losses, tables
+from .tables import CHECKED_AXES, FLIP_DEG, INTERVAL, UNIT, checked_cells, tables
 
 METHOD_NAMES = {
     "forecast": "torsocast",
@@ -94,7 +94,7 @@ def failures(t: dict[str, Any]) -> list[str]:
         lines.append("- No front/back flip (no azimuth error over 90 degrees).")
     cells = checked_cells(t["forecasts"])
     for against in ("hold", "velocity"):
-        lost = losses(t["forecasts"], against)
+        lost = t["losses"][against]
         name = "holding the current estimate still" if against == "hold" else "constant velocity"
         if lost:
             worst = "; ".join(
@@ -102,9 +102,12 @@ def failures(t: dict[str, Any]) -> list[str]:
                 f"{_f(r['forecast'])} vs {_f(r[against])} {UNIT[r['component']]}"
                 for r in lost[:6]
             )
+            beyond = sum(r["beyond"] for r in lost)
             lines.append(
                 f"- **Forecast worse than {name}** in {len(lost)} of {cells} checked cells "
-                f"({' or '.join(CHECKED_AXES)} x component x horizon x median or mean). Worst: {worst}."
+                f"({' or '.join(CHECKED_AXES)} x component x horizon x median or mean), {beyond} of them "
+                f"by more than the draw of scenes explains ({100 * INTERVAL:g} % interval of the "
+                f"difference above zero). Worst: {worst}."
             )
         else:
             lines.append(f"- The forecast is nowhere worse than {name} ({cells} cells checked).")
@@ -294,8 +297,8 @@ def write(bench: Benchmark, out: str | Path, draw: bool = True) -> tuple[str, li
         "false_positives": bench.false_positives,
         "models": bench.models,
         "notes": bench.notes,
-        "losses_to_hold": losses(t["forecasts"], "hold"),
-        "losses_to_velocity": losses(t["forecasts"], "velocity"),
+        "losses_to_hold": t["losses"]["hold"],
+        "losses_to_velocity": t["losses"]["velocity"],
         "tables": t,
     }
     (out / "report.json").write_text(json.dumps(_clean(summary), indent=1))

@@ -246,6 +246,35 @@ def losses(forecast_rows: dict[str, list[dict[str, Any]]], against: str = "hold"
     return sorted(out, key=lambda r: -r["ratio"])
 
 
+def loss_intervals(cols: Columns, lost: list[dict[str, Any]], against: str) -> list[dict[str, Any]]:
+    """``lost`` (:func:`losses`) with each cell's paired :data:`INTERVAL` interval of the
+    forecast's error statistic minus ``against``'s (``low``, ``high``, in the cell's unit) over
+    draws of the scenes, and ``beyond``: the whole interval above zero, a loss the draw of scenes
+    does not explain. Both statistics of a draw weigh the same frames the same way."""
+    if not lost:
+        return lost
+    names, index = np.unique(cols["scene"], return_inverse=True)
+    labels = {axis: np.array([str(v) for v in condition(cols, axis)]) for axis in CHECKED_AXES}
+    weights = _draws(len(names), 0)
+    out = []
+    for cell in lost:
+        m = (labels[cell["axis"]] == cell["group"]) & (cols["horizon"] == cell["horizon"])
+        scale = SCALE[cell["component"]]
+        ours = scale * cols[f"forecast_{cell['component']}"][m]
+        theirs = scale * cols[f"{against}_{cell['component']}"][m]
+        if cell["stat"] == "median":
+            draws = [scene_percentile_draws(index[m], len(names), v, 50.0) for v in (ours, theirs)]
+            difference = draws[0] - draws[1]
+        else:
+            frames = np.bincount(index[m], minlength=len(names)).astype(float)
+            gap = np.bincount(index[m], weights=ours - theirs, minlength=len(names))
+            with np.errstate(invalid="ignore"):
+                difference = (weights @ gap) / (weights @ frames)
+        low, high = central(difference)
+        out.append({**cell, "low": low, "high": high, "beyond": low > 0})
+    return out
+
+
 def checked_cells(forecast_rows: dict[str, list[dict[str, Any]]]) -> int:
     return sum(len(forecast_rows.get(axis, [])) for axis in CHECKED_AXES) * len(COMPONENTS) * 2
 
@@ -253,9 +282,14 @@ def checked_cells(forecast_rows: dict[str, list[dict[str, Any]]]) -> int:
 def tables(recovery: Columns, forecasts: Columns, identity: Columns) -> dict[str, Any]:
     """Every table of the report, by kind and by condition (None: all rows)."""
     axes: list[str | None] = [None, *AXES]
-    return {
+    out: dict[str, Any] = {
         "recovery": {str(a or "all"): recovery_table(recovery, a) for a in axes},
         "forecasts": {str(a or "all"): forecast_table(forecasts, a) for a in axes},
         "identity": {str(a or "all"): identity_table(identity, a) for a in (None, "people", "category")},
         "coverage": {str(a or "all"): coverage_table(forecasts, a) for a in (None, "category", "view")},
     }
+    out["losses"] = {
+        against: loss_intervals(forecasts, losses(out["forecasts"], against), against)
+        for against in ("hold", "velocity")
+    }
+    return out
