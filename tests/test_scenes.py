@@ -246,8 +246,12 @@ def test_two_runs_compare_by_the_same_draws_of_their_scenes(tmp_path, capsys):
     (tmp_path / "c" / "recovery.csv").write_text("scene,t,actor,estimated,azimuth\nx,0,0,True,0\n")
     assert main(["eval", "compare", str(tmp_path / "a"), str(tmp_path / "c")]) == 2
     assert main(["eval", "compare", str(tmp_path / "a"), str(tmp_path / "none")]) == 2
+    (tmp_path / "d").mkdir()
+    (tmp_path / "d" / "recovery.csv").write_text("scene,t,actor,estimated\nx,0,0,True\n")
+    assert main(["eval", "compare", str(tmp_path / "a"), str(tmp_path / "d")]) == 2
     err = capsys.readouterr().err
     assert "different scenes or frames" in err and "recovery.csv" in err
+    assert "not a scenes benchmark record (no azimuth column)" in err
 
 
 def recover(spec, motion, model):

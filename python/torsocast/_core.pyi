@@ -487,7 +487,8 @@ class Observation:
     @property
     def heading_confident(self) -> bool:
         """A cue other than the detector's labels (the face, bent knees, the walking direction)
-        confirms the heading's side: more evidence than the labels alone can build."""
+        confirms the heading's side (more evidence than the labels alone can build), and the
+        heading lies within 45 degrees of the track's recent heading."""
     @property
     def joints(self) -> _F64: ...
     @property

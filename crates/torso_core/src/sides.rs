@@ -23,7 +23,7 @@
 
 use crate::coco::{self, Joints};
 use crate::vec3::finite;
-use std::f64::consts::PI;
+use std::f64::consts::{FRAC_PI_4, PI};
 
 /// A nose less than this (m) in front of the shoulders' midpoint, horizontally, says nothing.
 const MIN_NOSE_OFFSET: f64 = 0.03;
@@ -33,7 +33,7 @@ const MIN_KNEE_OFFSET: f64 = 0.03;
 /// confident: beyond it the frame's torso line lies nearer across the recent heading than along
 /// it, far more often a bad plane than a turn that fast. Dev: 45 degrees, 30 was stricter for
 /// a few more frames (docs/benchmark.md).
-const MAX_CONFIDENT_TURN: f64 = std::f64::consts::FRAC_PI_4;
+const MAX_CONFIDENT_TURN: f64 = FRAC_PI_4;
 /// Time constant (s) of the recent heading whose side of the torso line a frame takes.
 const REFERENCE_TIME: f64 = 0.2;
 /// Walking slower than this (m/s) says nothing of the heading; the motion cue reaches its full
@@ -171,7 +171,7 @@ impl Facing {
         let recent = self.reference; // before this frame moves it
         let (dt, candidate) = match (self.heading, self.last) {
             (Some(h), Some((last_t, _))) => {
-                let reference = self.reference[1].atan2(self.reference[0]);
+                let reference = recent[1].atan2(recent[0]);
                 let side = if (labelled - reference).cos() >= 0.0 {
                     labelled
                 } else {

@@ -63,8 +63,9 @@ pub struct Observation {
     /// The track's weighed evidence for its heading after this frame, in seconds of the
     /// labels' agreement (0 where the frame had no heading; [`crate::sides::Decision`]).
     pub facing_evidence: f64,
-    /// The heading's side is confirmed by a cue other than the detector's labels: more evidence
-    /// than the labels alone can build ([`crate::sides::Decision::confident`]).
+    /// The heading's side is confirmed by a cue other than the detector's labels (more evidence
+    /// than the labels alone can build) and it lies near the track's recent heading
+    /// ([`crate::sides::Decision::confident`]).
     pub heading_confident: bool,
     /// The joints after the swap, the depth completion and the gate (NaN where lost).
     pub joints: Joints,

@@ -57,21 +57,20 @@ def compare(before: Columns, after: Columns) -> dict[str, Any]:
         out[name] = {"before": values[0], "after": values[1], "change": values[1] - values[0]}
         out[name]["low"], out[name]["high"] = low, high
 
+    runs = [(cols, *_flips(cols)) for cols in (before, after)]
     measures = [("flips", None)]
     if "confident" in before and "confident" in after:
         measures.append(("flips_confident", "confident"))
     for name, pick in measures:
         rates, draws = [], []
-        for cols in (before, after):
-            estimated, flipped = _flips(cols)
+        for cols, estimated, flipped in runs:
             counted = estimated if pick is None else estimated & (cols[pick] == "True")
             rates.append(float(flipped[counted].mean()) if counted.any() else float("nan"))
             draws.append(scene_draws(index[counted], len(names), flipped[counted]))
         record(name, rates, draws)
     for name, q in (("azimuth_median", 50.0), ("azimuth_p90", 90.0)):
         values, draws = [], []
-        for cols in (before, after):
-            estimated, _ = _flips(cols)
+        for cols, estimated, _ in runs:
             error = np.degrees(cols["azimuth"][estimated].astype(float))
             values.append(float(np.percentile(error, q)) if len(error) else float("nan"))
             draws.append(scene_percentile_draws(index[estimated], len(names), error, q))

@@ -21,7 +21,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ... import wrap_angle
-from ...keypoints import KeypointModel, open_model
+from ...keypoints import KeypointModel, coco, open_model
 from ...sources import open_source
 from ...synthetic.scenes import RenderedScene
 from .plan import CMU_ENV, H36M_ENV, Catalogue, Size, data_folder, draw_scene
@@ -67,8 +67,9 @@ def sides_right(keypoints: F64, view: str, min_score: float = 0.3) -> float:
     camera's right from the front, on its left from behind (NaN for profile views, or none)."""
     if view == "profile":
         return float("nan")
-    seen = (keypoints[:, [5, 6], 2] >= min_score).all(axis=1)
-    left_on_right = keypoints[seen, 5, 0] > keypoints[seen, 6, 0]
+    left, right = coco.LEFT_SHOULDER, coco.RIGHT_SHOULDER
+    seen = (keypoints[:, [left, right], 2] >= min_score).all(axis=1)
+    left_on_right = keypoints[seen, left, 0] > keypoints[seen, right, 0]
     return float(np.mean(left_on_right == (view == "front"))) if seen.any() else float("nan")
 
 
