@@ -172,14 +172,25 @@ def _eval_scenes(args: argparse.Namespace) -> int:
 
 
 def _eval_compare(args: argparse.Namespace) -> int:
-    from .evaluation.scenes.compare import compare, markdown, read
+    from .evaluation.scenes.compare import (
+        compare,
+        compare_forecasts,
+        forecasts_markdown,
+        markdown,
+        read,
+        read_forecasts,
+    )
 
     try:
         result = compare(read(args.before), read(args.after))
+        forecasts = [read_forecasts(args.before), read_forecasts(args.after)]
+        cells = compare_forecasts(*forecasts) if all(f is not None for f in forecasts) else None
     except (OSError, ValueError, KeyError) as e:
         print(f"torsocast eval compare: {e}", file=sys.stderr)
         return 2
     print(markdown(result))
+    if cells is not None:
+        print("\n" + forecasts_markdown(cells))
     return 0
 
 
@@ -376,7 +387,7 @@ def main(argv: list[str] | None = None) -> int:
     sc.set_defaults(run=_eval_scenes)
     cp = ev_sub.add_parser(
         "compare",
-        help="two runs of eval scenes on the same scenes: the change in flips and its interval",
+        help="two runs of eval scenes on the same scenes: changes in flips and forecast errors",
     )
     cp.add_argument("before", help="the --out folder of the first run")
     cp.add_argument("after", help="the --out folder of the second run")
