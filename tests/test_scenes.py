@@ -220,18 +220,34 @@ def test_a_loss_to_holding_is_told_from_the_draw_of_scenes():
 
 
 def test_two_runs_compare_their_forecasts_scene_by_scene(tmp_path, capsys):
-    # Ten scenes of 0.4 s forecasts of one motion; the second run's centre forecast errs 1 cm
-    # more than the first's in every forecast (a change no draw of scenes hides, and one that
-    # turns a tie with holding still into a loss); its angles are the first run's.
+    # Ten scenes of 0.4 s forecasts of one motion seen from one side (one category, one view
+    # bin); the second run's centre forecast errs 1 cm more than the first's in every forecast
+    # (a change no draw of scenes hides, and one that turns a tie with holding still into a
+    # loss); its angles are the first run's.
     rng = np.random.default_rng(2)
-    head = ["scene", "t", "actor", "estimated", "azimuth", "category", "horizon"]
+    head = ["scene", "t", "actor", "estimated", "azimuth", "category", "view", "horizon"]
     head += [f"{m}_{c}" for m in ("forecast", "hold") for c in ("centre", "azimuth", "elevation")]
     rows = []
     for scene in range(10):
         for k in range(8):
             error = rng.uniform(0.05, 0.2)
             rows.append(
-                [f"s{scene}", k / 10, 0, "True", 0.1, "walking", 0.4, error, 0.1, 0.05, error, 0.1, 0.05]
+                [
+                    f"s{scene}",
+                    k / 10,
+                    0,
+                    "True",
+                    0.1,
+                    "walking",
+                    10.0,
+                    0.4,
+                    error,
+                    0.1,
+                    0.05,
+                    error,
+                    0.1,
+                    0.05,
+                ]
             )
     for name, extra in (("a", 0.0), ("b", 0.01)):
         (tmp_path / name).mkdir()
@@ -239,14 +255,15 @@ def test_two_runs_compare_their_forecasts_scene_by_scene(tmp_path, capsys):
             with (tmp_path / name / f"{table}.csv").open("w") as f:
                 f.write(",".join(head) + "\n")
                 for r in rows:
-                    f.write(",".join(str(v) for v in [*r[:7], r[7] + extra, *r[8:]]) + "\n")
+                    f.write(",".join(str(v) for v in [*r[:8], r[8] + extra, *r[9:]]) + "\n")
     assert main(["eval", "compare", str(tmp_path / "a"), str(tmp_path / "b")]) == 0
     out = capsys.readouterr().out
     assert "| walking | centre | 0.4 s |" in out and "| +1.0 | +1.0 to +1.0 |" in out
     assert "| walking | azimuth | 0.4 s |" in out and "| +0.0 | +0.0 to +0.0 |" in out
-    assert "0 of 3 cells better and 1 worse" in out and "holding still in 0 before, 1 after" in out
+    assert "| view 0 | centre | 0.4 s |" in out
+    assert "0 of 6 cells better and 2 worse" in out and "holding still in 0 before, 2 after" in out
     # A forecast record of other scenes is refused like a recovery record.
-    (tmp_path / "b" / "forecasts.csv").write_text(",".join(head) + "\n" + ",".join(["x", *["0"] * 12]) + "\n")
+    (tmp_path / "b" / "forecasts.csv").write_text(",".join(head) + "\n" + ",".join(["x", *["0"] * 13]) + "\n")
     assert main(["eval", "compare", str(tmp_path / "a"), str(tmp_path / "b")]) == 2
     assert "different scenes" in capsys.readouterr().err
 

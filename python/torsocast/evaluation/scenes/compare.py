@@ -5,8 +5,8 @@ the spread of the split's draw of scenes. Both runs saw the same scenes, so the 
 paired: drawing the scenes again with replacement, the same draw for both runs, how far does the
 difference of their flip rates move? ``torsocast eval compare BEFORE AFTER`` reads the
 ``recovery.csv`` of each run's output folder, and where both have one their ``forecasts.csv``:
-the change of each motion category's median forecast error per component and horizon, with its
-interval over the same draws.
+the change of each motion category's and view bin's median forecast error per component and
+horizon, with its interval over the same draws.
 """
 
 from __future__ import annotations
@@ -18,7 +18,17 @@ from typing import Any
 import numpy as np
 
 from .score import COMPONENTS
-from .tables import FLIP_DEG, INTERVAL, SCALE, Columns, central, scene_draws, scene_percentile_draws
+from .tables import (
+    CHECKED_AXES,
+    FLIP_DEG,
+    INTERVAL,
+    SCALE,
+    Columns,
+    central,
+    groups,
+    scene_draws,
+    scene_percentile_draws,
+)
 
 #: The rows of the two runs must describe the same person-frames.
 KEYS = ("scene", "t", "actor")
@@ -44,7 +54,13 @@ def read_forecasts(folder: str | Path) -> Columns | None:
         return None
     with path.open(newline="") as f:
         rows = list(csv.DictReader(f))
-    needed = ("scene", "category", "horizon", *(f"{m}_{c}" for m in ("forecast", "hold") for c in COMPONENTS))
+    needed = (
+        "scene",
+        "category",
+        "view",
+        "horizon",
+        *(f"{m}_{c}" for m in ("forecast", "hold") for c in COMPONENTS),
+    )
     missing = [k for k in needed if not rows or k not in rows[0]]
     if missing:
         raise ValueError(f"{path}: not a scenes benchmark record (no {', '.join(missing)} column)")
@@ -99,50 +115,63 @@ def compare(before: Columns, after: Columns) -> dict[str, Any]:
 
 
 def compare_forecasts(before: Columns, after: Columns) -> list[dict[str, Any]]:
-    """Per motion category, component and horizon: both runs' median forecast error (in the
-    report's units), the change, its paired interval over draws of the scenes (the same draws
-    for both runs, each weighing its own forecasts of a drawn scene) and the first run's median
-    error of holding still. A change to the forecaster alone leaves the forecasts' instants as
-    they were; a change to the tracking may add or drop some, which the draws take as they come.
-    """
+    """Per motion category and per view bin (the axes the report checks against holding still),
+    component and horizon: both runs' median forecast error (in the report's units), the change,
+    its paired interval over draws of the scenes (the same draws for both runs, each weighing its
+    own forecasts of a drawn scene) and each run's median error of holding its own estimate still
+    (``hold``, ``hold_after``). A change
+    to the forecaster alone leaves the forecasts' instants as they were; a change to the tracking
+    may add or drop some, which the draws take as they come."""
     if set(before["scene"]) != set(after["scene"]):
         raise ValueError("the runs' forecasts are of different scenes")
     names = np.unique(before["scene"])
     out = []
-    for category in np.unique(before["category"]):
-        for horizon in np.unique(before["horizon"]):
-            masks = [(c["category"] == category) & (c["horizon"] == horizon) for c in (before, after)]
-            if not all(m.any() for m in masks):
-                continue
-            for component in COMPONENTS:
-                values, draws = [], []
-                for cols, m in zip((before, after), masks):
-                    error = SCALE[component] * cols[f"forecast_{component}"][m]
-                    index = np.searchsorted(names, cols["scene"][m])
-                    values.append(float(np.median(error)))
-                    draws.append(scene_percentile_draws(index, len(names), error, 50.0))
-                low, high = central(draws[1] - draws[0])
-                hold = SCALE[component] * before[f"hold_{component}"][masks[0]]
-                out.append(
-                    {
-                        "category": str(category),
-                        "component": component,
-                        "horizon": float(horizon),
-                        "before": values[0],
-                        "after": values[1],
-                        "change": values[1] - values[0],
-                        "low": low,
-                        "high": high,
-                        "hold": float(np.median(hold)),
-                    }
+    for axis in CHECKED_AXES:
+        masks_after = dict(groups(after, axis))
+        for group, in_before in groups(before, axis):
+            for horizon in np.unique(before["horizon"]):
+                masks = [in_before & (before["horizon"] == horizon)]
+                masks.append(
+                    masks_after.get(group, np.zeros(len(after["scene"]), bool))
+                    & (after["horizon"] == horizon)
                 )
+                if not all(m.any() for m in masks):
+                    continue
+                for component in COMPONENTS:
+                    values, draws = [], []
+                    for cols, m in zip((before, after), masks):
+                        error = SCALE[component] * cols[f"forecast_{component}"][m]
+                        index = np.searchsorted(names, cols["scene"][m])
+                        values.append(float(np.median(error)))
+                        draws.append(scene_percentile_draws(index, len(names), error, 50.0))
+                    low, high = central(draws[1] - draws[0])
+                    holds = [
+                        float(np.median(SCALE[component] * cols[f"hold_{component}"][m]))
+                        for cols, m in zip((before, after), masks)
+                    ]
+                    out.append(
+                        {
+                            "axis": axis,
+                            "group": group,
+                            "component": component,
+                            "horizon": float(horizon),
+                            "before": values[0],
+                            "after": values[1],
+                            "change": values[1] - values[0],
+                            "low": low,
+                            "high": high,
+                            "hold": holds[0],
+                            "hold_after": holds[1],
+                        }
+                    )
     return out
 
 
 def forecasts_markdown(cells: list[dict[str, Any]]) -> str:
-    """The forecast comparison as a Markdown table, with a count of the changes beyond the draw
-    and of the cells worse than holding still before and after."""
-    head = "| motion category | component | horizon | hold | before | after | change |"
+    """The forecast comparison as a Markdown table (holding still: the first run's), with a count
+    of the changes beyond the draw and of the cells where each run is worse than holding its own
+    estimate still."""
+    head = "| motion category or view | component | horizon | hold | before | after | change |"
     lines = [
         f"{head} its {100 * INTERVAL:g} % interval |",
         "|---|---|---:|---:|---:|---:|---:|---:|",
@@ -151,12 +180,13 @@ def forecasts_markdown(cells: list[dict[str, Any]]) -> str:
         numbers = (f"{c[k]:.1f}" for k in ("hold", "before", "after"))
         change, low, high = (f"{c[k]:+.1f}" for k in ("change", "low", "high"))
         lines.append(
-            f"| {c['category']} | {c['component']} | {c['horizon']:g} s | {' | '.join(numbers)} "
+            f"| {c['group'] if c['axis'] == 'category' else 'view ' + c['group']} | {c['component']} "
+            f"| {c['horizon']:g} s | {' | '.join(numbers)} "
             f"| {change} | {low} to {high} |"
         )
     better = sum(c["high"] < 0 for c in cells)
     worse = sum(c["low"] > 0 for c in cells)
-    lost = [sum(c[k] > c["hold"] for c in cells) for k in ("before", "after")]
+    lost = [sum(c[k] > c[h] for c in cells) for k, h in (("before", "hold"), ("after", "hold_after"))]
     return "\n".join(lines) + (
         f"\n\nMedian forecast errors (centre cm, angles deg): {better} of {len(cells)} cells better and "
         f"{worse} worse by more than the draw of scenes explains; worse than holding still in "
