@@ -22,13 +22,18 @@
 //! line lies far across the recent heading (a bad plane).
 
 use crate::coco::{self, Joints};
-use crate::vec3::finite;
+use crate::vec3::{distance, finite};
 use std::f64::consts::{FRAC_PI_4, PI};
 
 /// A nose less than this (m) in front of the shoulders' midpoint, horizontally, says nothing.
 const MIN_NOSE_OFFSET: f64 = 0.03;
 /// Knees less than this (m) in front of their hip-to-ankle lines, horizontally, say nothing.
 const MIN_KNEE_OFFSET: f64 = 0.03;
+/// A leg whose lifted thigh and shin differ in length by more than this factor says nothing: a
+/// thigh and a shin are about as long as each other, and one of them twice the other means a
+/// joint's depth was read off another surface (a knee hidden behind the body, seen from the
+/// back, takes the depth of the person's own back, nearer the camera).
+const MAX_LEG_PROPORTION: f64 = 2.0;
 /// Largest angle (rad) between a frame's heading and the recent heading for the frame to be
 /// confident: beyond it the frame's torso line lies nearer across the recent heading than along
 /// it, far more often a bad plane than a turn that fast. Dev: 45 degrees, 30 was stricter for
@@ -264,19 +269,23 @@ pub fn nose_direction(joints: &Joints) -> Option<f64> {
 }
 
 /// Horizontal direction in which the knees stand out of the lines from their hips to their
-/// ankles, where every leg whose three joints are seen has its knee at least `MIN_KNEE_OFFSET`
-/// out that way (a detector that pairs one leg's knee with the other's ankle, or reads a knee's
-/// depth off the other leg, bends that leg backwards, so one leg against the other says
-/// nothing). Which leg is labelled left does not matter, only that a leg's joints are one leg's.
+/// ankles, where every leg whose three joints are seen and in proportion (`MAX_LEG_PROPORTION`)
+/// has its knee at least `MIN_KNEE_OFFSET` out that way (a detector that pairs one leg's knee
+/// with the other's ankle, or reads a knee's depth off the other leg, bends that leg backwards,
+/// so one leg against the other says nothing). Which leg is labelled left does not matter, only
+/// that a leg's joints are one leg's.
 pub fn knee_direction(joints: &Joints) -> Option<f64> {
     let legs = [
         [coco::LEFT_HIP, coco::LEFT_KNEE, coco::LEFT_ANKLE],
         [coco::RIGHT_HIP, coco::RIGHT_KNEE, coco::RIGHT_ANKLE],
     ];
     let offsets = legs.map(|[hip, knee, ankle]| {
-        [hip, knee, ankle]
-            .iter()
-            .all(|&i| finite(&joints[i]))
+        let seen = [hip, knee, ankle].iter().all(|&i| finite(&joints[i]));
+        let (thigh, shin) = (
+            distance(joints[hip], joints[knee]),
+            distance(joints[knee], joints[ankle]),
+        );
+        (seen && thigh <= MAX_LEG_PROPORTION * shin && shin <= MAX_LEG_PROPORTION * thigh)
             .then(|| [0, 1].map(|k| joints[knee][k] - 0.5 * (joints[hip][k] + joints[ankle][k])))
     });
     let sum = offsets
@@ -487,6 +496,14 @@ mod tests {
         let mut disagree = joints;
         disagree[coco::RIGHT_KNEE] = [1.77, 0.1, 0.5];
         assert_eq!(knee_direction(&disagree), None);
+        // Seen from behind, a sitting person's knee hidden by the body takes the depth of the
+        // back: 10 cm nearer the camera (at -x) than the hip, its thigh 0.15 m against a 0.4 m
+        // shin. That leg says nothing; the other, in proportion, still counts.
+        let mut hidden = joints;
+        hidden[coco::RIGHT_KNEE] = [1.9, 0.1, 0.8];
+        assert!(error(knee_direction(&hidden).unwrap(), 0.0) < 1e-12);
+        hidden[coco::LEFT_KNEE] = [1.9, -0.1, 0.8];
+        assert_eq!(knee_direction(&hidden), None);
         // One leg seen is enough; straight legs say nothing.
         joints[coco::RIGHT_ANKLE] = [f64::NAN; 3];
         assert!(error(knee_direction(&joints).unwrap(), 0.0) < 1e-12);
