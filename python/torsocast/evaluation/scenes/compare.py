@@ -119,9 +119,9 @@ def compare_forecasts(before: Columns, after: Columns) -> list[dict[str, Any]]:
     component and horizon: both runs' median forecast error (in the report's units), the change,
     its paired interval over draws of the scenes (the same draws for both runs, each weighing its
     own forecasts of a drawn scene) and each run's median error of holding its own estimate still
-    (``hold``, ``hold_after``). A change
-    to the forecaster alone leaves the forecasts' instants as they were; a change to the tracking
-    may add or drop some, which the draws take as they come."""
+    (``hold``, ``hold_after``). A change to the forecaster alone leaves the forecasts' instants
+    as they were; a change to the tracking may add or drop some, which the draws take as they
+    come."""
     if set(before["scene"]) != set(after["scene"]):
         raise ValueError("the runs' forecasts are of different scenes")
     names = np.unique(before["scene"])
