@@ -4,6 +4,7 @@ one person at a known pose recovered through the real chain, the scoring rules, 
 
 import csv
 import json
+import re
 import subprocess
 import sys
 
@@ -217,6 +218,59 @@ def test_a_loss_to_holding_is_told_from_the_draw_of_scenes():
     steady, noisy = lost[("steady", "mean")], lost[("noisy", "mean")]
     assert steady["beyond"] and steady["low"] == pytest.approx(1.0) and steady["high"] == pytest.approx(1.0)
     assert not noisy["beyond"] and noisy["low"] < 0 < noisy["high"]
+
+
+def test_the_oracle_puts_wrong_pairs_right_and_leaves_right_ones():
+    # A person at the origin facing +x (heading 0): the left side is at +y. Detection 0 has the
+    # shoulders exchanged and the hips right; detection 1 is right; detection 2 belongs to no one.
+    from torsocast.evaluation.scenes.oracle import pair_is_right, put_labels_right
+
+    joints = np.full((3, 17, 3), np.nan)
+    for d in range(3):
+        for left, right, height in (
+            (1, 2, 1.6),
+            (3, 4, 1.6),
+            (5, 6, 1.4),
+            (7, 8, 1.1),
+            (11, 12, 0.9),
+            (13, 14, 0.5),
+        ):
+            joints[d, left], joints[d, right] = [0.0, 0.2, height], [0.0, -0.2, height]
+    joints[0, [5, 6]] = joints[0, [6, 5]]
+    joints[0, [7, 8]] = joints[0, [8, 7]]
+    joints[2] = joints[0]
+    keypoints = np.arange(3 * 17 * 3, dtype=float).reshape(3, 17, 3)
+    before_k, before_j = keypoints.copy(), joints.copy()
+    truth = np.array([[0.0, 0.0, 1.0, 0.0, np.pi / 2]])
+    assert pair_is_right(joints[1], 5, 6, 0.0) and not pair_is_right(joints[0], 5, 6, 0.0)
+    assert (
+        pair_is_right(joints[1], 5, 6, np.pi) is False
+        and pair_is_right(np.full((17, 3), np.nan), 5, 6, 0.0) is None
+    )
+    assert put_labels_right(keypoints, joints, [0, 0, -1], truth) == 1
+    # The shoulders and the pairs that follow them (eyes, ears, elbows, knees) exchanged; the
+    # hips, judged on their own, left.
+    for left, right in ((1, 2), (3, 4), (5, 6), (7, 8), (13, 14)):
+        assert (keypoints[0, left] == before_k[0, right]).all() and (
+            keypoints[0, right] == before_k[0, left]
+        ).all()
+    assert np.array_equal(joints[0, [5, 6]], before_j[0, [6, 5]])
+    assert np.array_equal(joints[0, [11, 12]], before_j[0, [11, 12]], equal_nan=True)
+    assert np.array_equal(keypoints[1:], before_k[1:]) and np.array_equal(
+        joints[1:], before_j[1:], equal_nan=True
+    )
+
+
+def test_the_label_oracle_refuses_scenes_it_cannot_replay(tmp_path, capsys):
+    # Nothing recorded in the cache yet: one line and exit code 2, before any scene is run.
+    cmu_root, h36m_root = shared_path("data", "cmu"), shared_path("data", "h36m")
+    args = ["eval", "scenes", "--quick", "--split", "report", "--cmu", str(cmu_root)]
+    args += ["--h36m", str(h36m_root), "--out", str(tmp_path / "out"), "--cache", str(tmp_path / "empty")]
+    args += ["--oracle-labels"]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert re.search(r"--oracle-labels replays recorded detections: (\d+) of the \1 scenes have none", err)
+    assert not (tmp_path / "out" / "report.md").exists()
 
 
 def test_two_runs_compare_their_forecasts_scene_by_scene(tmp_path, capsys):

@@ -161,9 +161,14 @@ def _eval_scenes(args: argparse.Namespace) -> int:
     except (FileNotFoundError, ValueError, RuntimeError) as e:
         print(f"torsocast eval scenes: {e}", file=sys.stderr)
         return 2
-    bench = evaluate(
-        catalogue, models, args.seed, args.quick, size, cache=Path(args.cache) if args.cache else None
-    )
+    cache = Path(args.cache) if args.cache else None
+    try:
+        bench = evaluate(
+            catalogue, models, args.seed, args.quick, size, cache=cache, oracle_labels=args.oracle_labels
+        )
+    except ValueError as e:
+        print(f"torsocast eval scenes: {e}", file=sys.stderr)
+        return 2
     draw = _can_draw()
     text, written = report.write(bench, args.out, draw=draw)
     print(text)
@@ -383,6 +388,12 @@ def main(argv: list[str] | None = None) -> int:
     sc.add_argument(
         "--cache",
         help="keep each scene's detections here and replay them on later runs (for changes after the model)",
+    )
+    sc.add_argument(
+        "--oracle-labels",
+        action="store_true",
+        help="replay the --cache with the detector's left/right labels put right by the truth: "
+        "how far any cue to the labels could take the flips (a bound, not a result)",
     )
     sc.set_defaults(run=_eval_scenes)
     cp = ev_sub.add_parser(

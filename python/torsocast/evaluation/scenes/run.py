@@ -17,6 +17,7 @@ from ...pipeline import FrameResult, Pipeline
 from ...progress import Progress
 from ...sources import Frame
 from ...synthetic.scenes import RenderedScene, SceneSpec
+from .oracle import put_labels_right
 from .plan import FULL, QUICK, Catalogue, Size, draw_scene
 from .score import SceneScore, Scorer, assign
 
@@ -90,20 +91,23 @@ def _live(scene: RenderedScene, pipeline: Pipeline, record: dict[str, list] | No
         yield frame, result, owner, visible
 
 
-def _replay(scene: RenderedScene, pipeline: Pipeline, path: Path):  # type: ignore[no-untyped-def]
-    """The frames' detections and lifted joints as recorded, through the tracking stages only."""
+def _replay(scene: RenderedScene, pipeline: Pipeline, path: Path, oracle: bool = False):  # type: ignore[no-untyped-def]
+    """The frames' detections and lifted joints as recorded, through the tracking stages only;
+    with ``oracle``, their left/right labels put right by the truth first (:mod:`.oracle`)."""
     data = np.load(path)
     ends = np.cumsum(data["people"])
     for k, t in enumerate(scene.spec.times):
         rows = slice(ends[k] - data["people"][k], ends[k])
-        keypoints = data["keypoints"][rows]
+        keypoints, joints = data["keypoints"][rows].copy(), data["joints"][rows].copy()
+        owner = data["owner"][rows].tolist()
+        truth = np.array([scene.truth_at(i, t) for i in range(len(scene.clips))]).reshape(-1, 5)
+        if oracle:
+            put_labels_right(keypoints, joints, owner, truth)
         detections = Detections(keypoints, np.zeros((len(keypoints), 4)), np.ones(len(keypoints)))
         frame = Frame(k, float(t), np.zeros((1, 1, 3), np.uint8), None, scene.camera)
-        frame.extra["truth"] = np.array([scene.truth_at(i, t) for i in range(len(scene.clips))]).reshape(
-            -1, 5
-        )
-        result = pipeline.track(frame, detections, data["joints"][rows], time.perf_counter())
-        yield frame, result, data["owner"][rows].tolist(), data["visible"][k]
+        frame.extra["truth"] = truth
+        result = pipeline.track(frame, detections, joints, time.perf_counter())
+        yield frame, result, owner, data["visible"][k]
 
 
 def run_scene(
@@ -112,19 +116,30 @@ def run_scene(
     model: KeypointModel,
     horizons: Sequence[float] = HORIZONS,
     cache: Path | None = None,
+    oracle_labels: bool = False,
 ) -> tuple[SceneScore, FrameResult | None, int]:
     """One scene through the pipeline: its :class:`~.score.SceneScore`, the frame with the most
     forecasts (None when replayed) and its number of frames. With a ``cache`` folder, the
     model's detections and the lifted joints of each frame are kept there, and a later run of
     the same scene with the same model replays them through the tracking stages alone (for
-    changes after the model: tracking, the per-person chain, forecasting, scoring)."""
+    changes after the model: tracking, the per-person chain, forecasting, scoring). With
+    ``oracle_labels``, a replay puts the detector's left/right labels right by the truth first
+    (:mod:`.oracle`: an upper bound, not a result)."""
     scene = RenderedScene(spec, {a.motion: catalogue.motion(a.motion) for a in spec.actors})
     pipeline = Pipeline(model, horizons)
     scorer = Scorer(scene, list(horizons), pipeline.tracker_config.person.min_score)
     path = _cache_file(cache, spec, model) if cache is not None else None
     record: dict[str, list] | None = defaultdict(list) if path is not None else None  # type: ignore[type-arg]
     replaying = path is not None and path.is_file()
-    frames = _replay(scene, pipeline, path) if replaying else _live(scene, pipeline, record)  # type: ignore[arg-type]
+    if oracle_labels and not replaying:
+        raise ValueError(
+            f"--oracle-labels replays recorded detections, and {spec.name} has none in the cache"
+        )
+    frames = (
+        _replay(scene, pipeline, path, oracle_labels)  # type: ignore[arg-type]
+        if replaying
+        else _live(scene, pipeline, record)
+    )
     best, best_count = None, 0
     for frame, result, owner, visible in frames:
         scorer(frame.time, result, owner, visible, frame.extra["truth"])
@@ -151,8 +166,10 @@ def evaluate(
     size: Size | None = None,
     progress: bool = True,
     cache: Path | None = None,
+    oracle_labels: bool = False,
 ) -> Benchmark:
-    """Draws the split's scenes for ``seed`` and runs them all (``cache``: see :func:`run_scene`)."""
+    """Draws the split's scenes for ``seed`` and runs them all (``cache`` and ``oracle_labels``:
+    see :func:`run_scene`; the oracle needs every scene recorded, and says so before any work)."""
     size = size or (QUICK if quick else FULL)
     specs = [draw_scene(catalogue, i, seed, size) for i in range(size.scenes)]
     specs += [draw_scene(catalogue, size.scenes + i, seed, size, turning=True) for i in range(size.turning)]
@@ -166,12 +183,27 @@ def evaluate(
             f"{len(skipped)} scenes with several people left out"
         )
     bench.specs = specs
+    if oracle_labels:
+        missing = [
+            s.name
+            for s in specs
+            if cache is None
+            or not _cache_file(cache, s, models.single if len(s.actors) <= 1 else models.multi).is_file()  # type: ignore[arg-type]
+        ]
+        if missing:
+            raise ValueError(
+                f"--oracle-labels replays recorded detections: {len(missing)} of the {len(specs)} scenes "
+                "have none (run eval scenes with the same --cache first)"
+            )
+        bench.notes.append(
+            "the detector's left/right labels put right by the truth (--oracle-labels): a bound, not a result"
+        )
     bar = Progress(len(specs), f"eval scenes ({catalogue.split})") if progress else None
     best_count = 0
     for spec in specs:
         model = models.single if len(spec.actors) <= 1 else models.multi
         assert model is not None
-        score, best, frames = run_scene(spec, catalogue, model, cache=cache)
+        score, best, frames = run_scene(spec, catalogue, model, cache=cache, oracle_labels=oracle_labels)
         for table in ("recovery", "forecasts", "identity"):
             for key, values in getattr(score, table).items():
                 getattr(bench, table)[key].extend(values)
