@@ -34,17 +34,32 @@ from .tables import (
 KEYS = ("scene", "t", "actor")
 
 
-def read(folder: str | Path) -> Columns:
-    """A run's ``recovery.csv`` as columns."""
-    path = Path(folder) / "recovery.csv"
+def _records(path: Path, needed: tuple[str, ...]) -> list[dict[str, str]]:
+    """The rows of a benchmark record ``path``, refused without one of the ``needed`` columns."""
     with path.open(newline="") as f:
         rows = list(csv.DictReader(f))
     if not rows:
         raise ValueError(f"{path}: no records")
-    missing = [k for k in (*KEYS, "estimated", "azimuth") if k not in rows[0]]
+    missing = [k for k in needed if k not in rows[0]]
     if missing:
         raise ValueError(f"{path}: not a scenes benchmark record (no {', '.join(missing)} column)")
+    return rows
+
+
+def read(folder: str | Path) -> Columns:
+    """A run's ``recovery.csv`` as columns."""
+    rows = _records(Path(folder) / "recovery.csv", (*KEYS, "estimated", "azimuth"))
     return {k: np.array([r[k] for r in rows]) for k in rows[0]}
+
+
+#: The columns of ``forecasts.csv`` a comparison reads: two labels, then numbers.
+FORECAST_COLUMNS = (
+    "scene",
+    "category",
+    "view",
+    "horizon",
+    *(f"{m}_{c}" for m in ("forecast", "hold") for c in COMPONENTS),
+)
 
 
 def read_forecasts(folder: str | Path) -> Columns | None:
@@ -52,20 +67,9 @@ def read_forecasts(folder: str | Path) -> Columns | None:
     path = Path(folder) / "forecasts.csv"
     if not path.is_file():
         return None
-    with path.open(newline="") as f:
-        rows = list(csv.DictReader(f))
-    needed = (
-        "scene",
-        "category",
-        "view",
-        "horizon",
-        *(f"{m}_{c}" for m in ("forecast", "hold") for c in COMPONENTS),
-    )
-    missing = [k for k in needed if not rows or k not in rows[0]]
-    if missing:
-        raise ValueError(f"{path}: not a scenes benchmark record (no {', '.join(missing)} column)")
-    cols = {k: np.array([r[k] for r in rows]) for k in ("scene", "category")}
-    for k in needed[2:]:
+    rows = _records(path, FORECAST_COLUMNS)
+    cols = {k: np.array([r[k] for r in rows]) for k in FORECAST_COLUMNS[:2]}
+    for k in FORECAST_COLUMNS[2:]:
         cols[k] = np.array([float(r[k]) for r in rows])
     return cols
 
@@ -125,6 +129,7 @@ def compare_forecasts(before: Columns, after: Columns) -> list[dict[str, Any]]:
     if set(before["scene"]) != set(after["scene"]):
         raise ValueError("the runs' forecasts are of different scenes")
     names = np.unique(before["scene"])
+    indices = [np.searchsorted(names, cols["scene"]) for cols in (before, after)]
     out = []
     for axis in CHECKED_AXES:
         masks_after = dict(groups(after, axis))
@@ -139,11 +144,10 @@ def compare_forecasts(before: Columns, after: Columns) -> list[dict[str, Any]]:
                     continue
                 for component in COMPONENTS:
                     values, draws = [], []
-                    for cols, m in zip((before, after), masks):
+                    for cols, index, m in zip((before, after), indices, masks):
                         error = SCALE[component] * cols[f"forecast_{component}"][m]
-                        index = np.searchsorted(names, cols["scene"][m])
                         values.append(float(np.median(error)))
-                        draws.append(scene_percentile_draws(index, len(names), error, 50.0))
+                        draws.append(scene_percentile_draws(index[m], len(names), error, 50.0))
                     low, high = central(draws[1] - draws[0])
                     holds = [
                         float(np.median(SCALE[component] * cols[f"hold_{component}"][m]))

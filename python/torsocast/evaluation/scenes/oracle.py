@@ -17,14 +17,14 @@ import numpy.typing as npt
 
 from ...keypoints import coco
 
-#: The pairs judged on their own, each with the joint that names it.
+#: The pairs judged on their own: the shoulders, then the hips.
 JUDGED = ((coco.LEFT_SHOULDER, coco.RIGHT_SHOULDER), (coco.LEFT_HIP, coco.RIGHT_HIP))
 
 
 def pair_is_right(joints: npt.NDArray[np.float64], left: int, right: int, heading: float) -> bool | None:
-    """Whether the normal of the line from ``right`` to ``left`` (world, z up), turned a quarter
-    to the front, lies on the side of the true ``heading`` (azimuth, rad); None where either
-    joint is not seen."""
+    """Whether the normal of the line from ``right`` to ``left`` (world, z up), (left - right) x
+    up, lies on the side of the true ``heading`` (azimuth, rad); None where either joint is not
+    seen."""
     if not np.isfinite(joints[[left, right]]).all():
         return None
     d = joints[left] - joints[right]
@@ -46,14 +46,13 @@ def put_labels_right(
         if person < 0 or not np.isfinite(truth[person]).all():
             continue
         verdict = {pair: pair_is_right(joints[d], *pair, truth[person][3]) for pair in JUDGED}
-        seen = [v for v in verdict.values() if v is not None]
-        if not seen or all(seen):
-            continue
-        shoulders, hips = (verdict[pair] for pair in JUDGED)
+        if False not in verdict.values():
+            continue  # nothing judged wrong (or nothing seen)
+        shoulders, hips = verdict.values()
         rest = shoulders if shoulders is not None else hips
-        for pair in coco.LEFT_RIGHT_PAIRS:
-            if not (verdict.get(pair) if verdict.get(pair) is not None else rest):
-                left, right = pair
+        for left, right in coco.LEFT_RIGHT_PAIRS:
+            right_way = verdict.get((left, right))
+            if not (rest if right_way is None else right_way):
                 for a in (keypoints[d], joints[d]):
                     a[[left, right]] = a[[right, left]]
         changed += 1

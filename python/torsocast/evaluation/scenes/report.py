@@ -77,9 +77,9 @@ def failures(t: dict[str, Any]) -> list[str]:
     """The report's first lines: where torsocast flips or forecasts worse than the references."""
     lines = []
     rec = t["recovery"]
-    all_flips = rec["all"][0]["flips"]
-    bad_views = [r for r in rec["view"] if np.isfinite(r["flips"]) and r["flips"] > 0]
     sure = rec["all"][0]
+    all_flips = sure["flips"]
+    bad_views = [r for r in rec["view"] if np.isfinite(r["flips"]) and r["flips"] > 0]
     sure_views = [r["flips_confident"] for r in rec["view"] if np.isfinite(r["flips_confident"])]
     worst_sure = max(sure_views, default=0.0)
     if all_flips > 0:

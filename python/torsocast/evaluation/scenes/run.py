@@ -42,6 +42,10 @@ class Models:
         multi = open_model(yolo) if yolo else None
         return cls(open_model(None), multi, Path(yolo).name if yolo else "")
 
+    def for_scene(self, spec: SceneSpec) -> KeypointModel | None:
+        """The model that runs ``spec``: MoveNet for one person, the multi-person model else."""
+        return self.single if len(spec.actors) <= 1 else self.multi
+
 
 @dataclass
 class Benchmark:
@@ -187,8 +191,7 @@ def evaluate(
         missing = [
             s.name
             for s in specs
-            if cache is None
-            or not _cache_file(cache, s, models.single if len(s.actors) <= 1 else models.multi).is_file()  # type: ignore[arg-type]
+            if cache is None or not _cache_file(cache, s, models.for_scene(s)).is_file()  # type: ignore[arg-type]
         ]
         if missing:
             raise ValueError(
@@ -201,7 +204,7 @@ def evaluate(
     bar = Progress(len(specs), f"eval scenes ({catalogue.split})") if progress else None
     best_count = 0
     for spec in specs:
-        model = models.single if len(spec.actors) <= 1 else models.multi
+        model = models.for_scene(spec)
         assert model is not None
         score, best, frames = run_scene(spec, catalogue, model, cache=cache, oracle_labels=oracle_labels)
         for table in ("recovery", "forecasts", "identity"):
@@ -216,7 +219,7 @@ def evaluate(
     if bench.picture is None and specs:
         # Every scene was replayed (no images): render the most crowded one again for the figure.
         crowd = max(specs, key=lambda s: len(s.actors))
-        model = models.single if len(crowd.actors) <= 1 else models.multi
+        model = models.for_scene(crowd)
         assert model is not None
         _, bench.picture, _ = run_scene(crowd, catalogue, model)
     return bench

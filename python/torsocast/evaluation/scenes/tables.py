@@ -3,6 +3,7 @@ motion category, frame rate) and reduced to the tables of the report."""
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from typing import Any
 
@@ -72,12 +73,16 @@ def groups(cols: Columns, axis: str | None) -> list[tuple[str, np.ndarray]]:
     return [(str(v), values == v) for v in _order(axis, values)]
 
 
+@functools.lru_cache(maxsize=8)
 def _draws(scenes: int, seed: int) -> np.ndarray:
     """(:data:`BOOTSTRAP`, scenes) counts: how many times each scene is in each draw of
     ``scenes`` scenes with replacement. The same ``seed`` and count give the same draws, so two
-    runs over the same scenes can be compared draw by draw."""
+    runs over the same scenes can be compared draw by draw. Built once per count and seed (a
+    report or a comparison asks for the same draws hundreds of times), read-only."""
     picks = np.random.default_rng(seed).integers(0, scenes, (BOOTSTRAP, scenes))
-    return np.stack([np.bincount(row, minlength=scenes) for row in picks]).astype(float)
+    draws = np.stack([np.bincount(row, minlength=scenes) for row in picks]).astype(float)
+    draws.setflags(write=False)
+    return draws
 
 
 def scene_draws(index: np.ndarray, scenes: int, hits: np.ndarray, seed: int = 0) -> np.ndarray:
