@@ -320,6 +320,10 @@ def test_two_runs_compare_their_forecasts_scene_by_scene(tmp_path, capsys):
     (tmp_path / "b" / "forecasts.csv").write_text(",".join(head) + "\n" + ",".join(["x", *["0"] * 13]) + "\n")
     assert main(["eval", "compare", str(tmp_path / "a"), str(tmp_path / "b")]) == 2
     assert "different scenes" in capsys.readouterr().err
+    # A forecast record without the columns a comparison reads is refused the same way.
+    (tmp_path / "b" / "forecasts.csv").write_text("scene,category,view,horizon\nx,walking,0,0.4\n")
+    assert main(["eval", "compare", str(tmp_path / "a"), str(tmp_path / "b")]) == 2
+    assert "not a scenes benchmark record (no forecast_centre" in capsys.readouterr().err
 
 
 def test_two_runs_compare_by_the_same_draws_of_their_scenes(tmp_path, capsys):
