@@ -52,6 +52,7 @@ pub mod plane;
 pub mod selfcheck;
 pub mod sides;
 pub mod smoothing;
+pub mod stray;
 pub mod tracker;
 pub mod trend;
 mod vec3;

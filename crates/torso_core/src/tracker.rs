@@ -43,7 +43,7 @@ use crate::coco::{Joints, N_JOINTS, TORSO};
 use crate::depth::{DepthImage, DepthLookup};
 use crate::error::{Error, Result};
 use crate::person::{Observation, Person, PersonConfig};
-use crate::vec3::distance;
+use crate::vec3::{distance, finite};
 use crate::Pose;
 
 /// One detection's 2D keypoints: `(u, v, score)` per COCO-17 joint, pixels of the image the
@@ -428,7 +428,7 @@ impl Tracker {
             self.joints
                 .iter()
                 .zip(&self.scores)
-                .map(|(j, s)| detection_centre(j, s, &person_config)),
+                .map(|(j, s)| detection_centre(j, s, &person_config, camera_position)),
         );
         self.placeable.clear();
         self.placeable
@@ -546,20 +546,28 @@ impl Tracker {
     }
 }
 
-/// Where a detection is, for association: the mean of its seen torso joints, else of every
-/// seen joint; NaN when it has no seen joint in 3D.
+/// Where a detection is, for association: the mean of its seen torso joints, after those whose
+/// depth came off something else ([`crate::stray`], seen from `camera`), else of every seen
+/// joint; NaN when it has no seen joint in 3D.
 pub fn detection_centre(
     joints: &Joints,
     scores: &[f64; N_JOINTS],
     config: &PersonConfig,
+    camera: [f64; 3],
 ) -> [f64; 3] {
-    let seen = |j: usize| config.sees(scores[j]) && crate::coco::usable(&joints[j]);
-    let torso_seen = TORSO.iter().any(|&j| seen(j));
+    let mut seen = *joints;
+    for (x, s) in seen.iter_mut().zip(scores) {
+        if !(config.sees(*s) && crate::coco::usable(x)) {
+            *x = [f64::NAN; 3];
+        }
+    }
+    crate::stray::drop_stray(&mut seen, camera);
+    let torso_seen = TORSO.iter().any(|&j| finite(&seen[j]));
     let mut total = [0.0; 3];
     let mut n = 0usize;
-    for j in 0..N_JOINTS {
-        if seen(j) && (!torso_seen || TORSO.contains(&j)) {
-            for (t, v) in total.iter_mut().zip(joints[j]) {
+    for (j, x) in seen.iter().enumerate() {
+        if finite(x) && (!torso_seen || TORSO.contains(&j)) {
+            for (t, v) in total.iter_mut().zip(x) {
                 *t += v;
             }
             n += 1;
@@ -643,6 +651,27 @@ mod tests {
                 fresh.intervals(&[0.4, 1.0], &mut b).unwrap()
             );
             assert_eq!(format!("{a:?}"), format!("{b:?}"));
+        }
+    }
+
+    #[test]
+    fn a_person_whose_shoulders_read_someone_nearer_keeps_their_track() {
+        // Every other frame the shoulders' keypoints take the depth of a person 2.5 m nearer the
+        // camera: the mean of the four torso joints would move 1.25 m, beyond the gate.
+        let mut tracker = Tracker::new(TrackerConfig::default()).unwrap();
+        for k in 0..10 {
+            let mut joints = body(4.0, 0.0);
+            if k % 2 == 1 {
+                joints[crate::coco::LEFT_SHOULDER][0] -= 2.5;
+                joints[crate::coco::RIGHT_SHOULDER][0] -= 2.5;
+            }
+            let out = tracker
+                .update(k as f64 / 15.0, &[joints], &[SEEN], [0.0, 0.0, 1.0])
+                .unwrap();
+            assert_eq!(out[0].track.unwrap().id, (k >= 2).then_some(1), "frame {k}");
+            assert_eq!(tracker.live(), 1);
+            let centre = detection_centre(&joints, &SEEN, &PersonConfig::default(), [0.0; 3]);
+            assert!((centre[0] - 4.0).abs() < 1e-9, "frame {k}: {centre:?}");
         }
     }
 

@@ -182,7 +182,7 @@ impl Person {
                 *s = 0.0;
             }
         }
-        occlusion::drop_torso_outlier(&mut joints);
+        crate::stray::drop_stray(&mut joints, camera_position);
         let mut completed = self.complete_occluded(&mut joints, camera_position);
         let mut decision = Decision::default();
         if let Some((labelled, centre)) = labelled_heading(&joints) {
@@ -493,10 +493,11 @@ pub fn wrap_angle(angle: f64) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::occlusion::{behind_on_ray, drop_torso_outlier, PAIRS};
+    use super::occlusion::{behind_on_ray, PAIRS};
     use super::*;
     use crate::coco::{LEFT_HIP, LEFT_SHOULDER, NOSE, RIGHT_HIP, RIGHT_SHOULDER};
     use crate::sides::FacingConfig;
+    use crate::stray::drop_stray;
     use crate::vec3::{distance, dot, norm};
     use crate::GateConfig;
 
@@ -786,7 +787,7 @@ mod tests {
         let (mut joints, scores) = person([4.0, 0.0, 1.0], PI, true);
         joints[RIGHT_SHOULDER][0] -= 1.5;
         let mut probe = joints;
-        assert_eq!(drop_torso_outlier(&mut probe), Some(RIGHT_SHOULDER));
+        assert_eq!(drop_stray(&mut probe, CAMERA), [false, true, false, false]);
         let obs = Person::new(PersonConfig::default())
             .unwrap()
             .update(0.0, &joints, &scores, CAMERA)
@@ -806,7 +807,7 @@ mod tests {
                 }
             }
             assert!(distance(broad[LEFT_SHOULDER], broad[RIGHT_SHOULDER]) > 0.49);
-            assert_eq!(drop_torso_outlier(&mut broad), None, "yaw {yaw}");
+            assert_eq!(drop_stray(&mut broad, CAMERA), [false; 4], "yaw {yaw}");
         }
     }
 

@@ -4,9 +4,8 @@
 //! of a pair, and the keypoint of the far one lands on the near side of the torso, so its depth
 //! is the near side's. Each track learns its shoulder and hip widths in frontal and dorsal
 //! views, where both joints are in view, and moves a far joint whose pair measures too short
-//! back along its camera ray to that width. In a crowd, another person in front of a joint (or
-//! the background behind its keypoint) gives it a depth far off the torso: such a joint is
-//! dropped, and the gate carries its last position along with the body.
+//! back along its camera ray to that width. (A joint whose depth came off something else
+//! altogether is dropped before this, [`crate::stray`].)
 
 use super::Person;
 use crate::coco::{self, Joints, N_JOINTS, TORSO};
@@ -17,12 +16,6 @@ use crate::AZIMUTH;
 /// pair are in view, so that their distance teaches the pair's width (about 37 degrees off
 /// frontal or dorsal).
 pub const FRONTAL_COSINE: f64 = 0.8;
-
-/// The farthest (m) a torso joint may lie, horizontally, from the median of the other three: a
-/// frontal torso with broad shoulders (0.5 m) and hips (0.35 m) puts a shoulder about 0.43 m
-/// from it. Chosen on the scenes benchmark's development split (flips level from 0.4 to
-/// 0.6 m; docs/benchmark.md).
-pub const MAX_TORSO_SPREAD: f64 = 0.5;
 
 /// Widths (m) a pair's distance must lie in to be learned: adult shoulders are about 0.35 m
 /// apart at the keypoints, hips 0.25 m.
@@ -96,33 +89,6 @@ impl Person {
         }
         completed
     }
-}
-
-/// Where all four torso joints are seen, drops (NaN) the one lying farthest, horizontally, from
-/// the median of the other three when that is more than [`MAX_TORSO_SPREAD`]: its depth was read
-/// off something else. Returns the joint dropped.
-pub(super) fn drop_torso_outlier(joints: &mut Joints) -> Option<usize> {
-    let torso = TORSO.map(|i| joints[i]);
-    if !torso.iter().all(finite) {
-        return None;
-    }
-    let spread = |i: usize| {
-        let others: [[f64; 3]; 3] = std::array::from_fn(|k| torso[if k < i { k } else { k + 1 }]);
-        let centre = [0, 1].map(|axis| median3(others.map(|p| p[axis])));
-        (torso[i][0] - centre[0]).hypot(torso[i][1] - centre[1])
-    };
-    let (worst, far) = (0..4)
-        .map(|i| (i, spread(i)))
-        .max_by(|a, b| a.1.total_cmp(&b.1))
-        .expect("four torso joints");
-    (far > MAX_TORSO_SPREAD).then(|| {
-        joints[TORSO[worst]] = [f64::NAN; 3];
-        TORSO[worst]
-    })
-}
-
-fn median3([a, b, c]: [f64; 3]) -> f64 {
-    a.min(b).max(a.max(b).min(c))
 }
 
 /// The point on the camera ray through `seen` that lies `width` from `anchor`, behind `seen`

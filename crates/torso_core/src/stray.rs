@@ -1,0 +1,200 @@
+//! Torso joints whose depth came off something else.
+//!
+//! A keypoint is right in the image, but its depth is read at one pixel: where another person
+//! stands in front of a joint, or the keypoint lands just off the body onto the background, the
+//! joint lifts to the wrong place, often metres off. Such a joint turns the torso plane by tens
+//! of degrees and, in the mean a track is associated by, moves the person further than the
+//! association gate. Both the track ([`crate::Person`]) and the association
+//! ([`crate::tracker::detection_centre`]) take the torso joints through [`drop_stray`] first; to the track, a dropped joint is one not
+//! seen, whose last position the gate carries along with the body.
+
+use crate::coco::{Joints, TORSO};
+use crate::vec3::{distance, finite};
+
+/// The farthest (m) a torso joint may lie, horizontally, from the median of the other three: a
+/// frontal torso with broad shoulders (0.5 m) and hips (0.35 m) puts a shoulder about 0.43 m
+/// from it. Chosen on the scenes benchmark's development split (flips level from 0.4 to
+/// 0.6 m; docs/benchmark.md).
+pub const MAX_TORSO_SPREAD: f64 = 0.5;
+
+/// No two joints of one torso lie further apart than this (m), horizontally: a torso bent flat
+/// puts a shoulder about 0.65 m from the opposite hip. Joints further apart belong to different
+/// surfaces, and the torso splits into groups (two people one behind the other, each holding
+/// two of the keypoints' depths).
+pub const MAX_TORSO_SPAN: f64 = 2.0 * MAX_TORSO_SPREAD;
+
+/// Drops (NaN) the seen torso joints whose depth came off something else, and says which.
+///
+/// First, where the seen torso joints fall into groups more than [`MAX_TORSO_SPAN`] apart
+/// (linked joint to joint), only the largest group is kept, and of groups as large the one
+/// farthest from `camera`: something that hides a joint stands in front of it, so its depth
+/// pulls the joint towards the camera. Then, where all four are left, the one lying farthest,
+/// horizontally, from the median of the other three is dropped when that is more than
+/// [`MAX_TORSO_SPREAD`].
+///
+/// ```
+/// use torso_core::stray::drop_stray;
+/// use torso_core::coco::{N_JOINTS, LEFT_SHOULDER, RIGHT_SHOULDER, LEFT_HIP, RIGHT_HIP};
+/// // A torso 4 m ahead whose shoulders read the depth of someone 3 m nearer the camera.
+/// let mut joints = [[f64::NAN; 3]; N_JOINTS];
+/// joints[LEFT_SHOULDER] = [1.0, -0.2, 1.4];
+/// joints[RIGHT_SHOULDER] = [1.0, 0.2, 1.4];
+/// joints[LEFT_HIP] = [4.0, -0.12, 0.9];
+/// joints[RIGHT_HIP] = [4.0, 0.12, 0.9];
+/// let dropped = drop_stray(&mut joints, [0.0, 0.0, 1.0]);
+/// assert_eq!(dropped, [true, true, false, false]);
+/// assert!(joints[LEFT_SHOULDER][0].is_nan() && joints[LEFT_HIP][0] == 4.0);
+/// ```
+pub fn drop_stray(joints: &mut Joints, camera: [f64; 3]) -> [bool; 4] {
+    let mut dropped = [false; 4];
+    let seen = TORSO.map(|i| finite(&joints[i]));
+    let horizontal = |a: usize, b: usize| {
+        let (p, q) = (joints[TORSO[a]], joints[TORSO[b]]);
+        (p[0] - q[0]).hypot(p[1] - q[1])
+    };
+    // Single linkage over at most four joints: a group is named by its smallest member.
+    let mut group = [0, 1, 2, 3];
+    for a in 0..4 {
+        for b in a + 1..4 {
+            if seen[a] && seen[b] && horizontal(a, b) <= MAX_TORSO_SPAN {
+                let (from, to) = (group[a].max(group[b]), group[a].min(group[b]));
+                group
+                    .iter_mut()
+                    .filter(|g| **g == from)
+                    .for_each(|g| *g = to);
+            }
+        }
+    }
+    let size = |g: usize| (0..4).filter(|&k| seen[k] && group[k] == g).count();
+    let depth = |g: usize| {
+        let members = (0..4).filter(|&k| seen[k] && group[k] == g);
+        members
+            .map(|k| distance(joints[TORSO[k]], camera))
+            .sum::<f64>()
+            / size(g) as f64
+    };
+    let kept = (0..4)
+        .filter(|&k| seen[k])
+        .map(|k| group[k])
+        .max_by(|&a, &b| {
+            size(a)
+                .cmp(&size(b))
+                .then_with(|| depth(a).total_cmp(&depth(b)))
+        });
+    for k in 0..4 {
+        if seen[k] && Some(group[k]) != kept {
+            dropped[k] = true;
+        }
+    }
+    if !dropped.iter().any(|&d| d) && seen.iter().all(|&s| s) {
+        if let Some(k) = farthest_from_the_others(joints) {
+            dropped[k] = true;
+        }
+    }
+    for k in 0..4 {
+        if dropped[k] {
+            joints[TORSO[k]] = [f64::NAN; 3];
+        }
+    }
+    dropped
+}
+
+/// Of four seen torso joints, the one lying farthest, horizontally, from the median of the other
+/// three, where that is more than [`MAX_TORSO_SPREAD`].
+fn farthest_from_the_others(joints: &Joints) -> Option<usize> {
+    let torso = TORSO.map(|i| joints[i]);
+    let spread = |i: usize| {
+        let others: [[f64; 3]; 3] = std::array::from_fn(|k| torso[if k < i { k } else { k + 1 }]);
+        let centre = [0, 1].map(|axis| median3(others.map(|p| p[axis])));
+        (torso[i][0] - centre[0]).hypot(torso[i][1] - centre[1])
+    };
+    let (worst, far) = (0..4)
+        .map(|i| (i, spread(i)))
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .expect("four torso joints");
+    (far > MAX_TORSO_SPREAD).then_some(worst)
+}
+
+fn median3([a, b, c]: [f64; 3]) -> f64 {
+    a.min(b).max(a.max(b).min(c))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::coco::{LEFT_HIP, LEFT_SHOULDER, N_JOINTS, RIGHT_HIP, RIGHT_SHOULDER};
+
+    const CAMERA: [f64; 3] = [0.0, 0.0, 1.0];
+
+    /// A torso facing the camera, `x` metres ahead, its shoulders `lean` metres ahead of its hips.
+    fn torso(x: f64, lean: f64) -> Joints {
+        let mut j = [[f64::NAN; 3]; N_JOINTS];
+        j[LEFT_SHOULDER] = [x - lean, -0.25, 1.4];
+        j[RIGHT_SHOULDER] = [x - lean, 0.25, 1.4];
+        j[LEFT_HIP] = [x, -0.175, 0.9];
+        j[RIGHT_HIP] = [x, 0.175, 0.9];
+        j
+    }
+
+    #[test]
+    fn a_torso_bent_flat_stays_one_group() {
+        // Leaning forwards or back by up to the torso's length, the torso does not split: at
+        // most the one joint farthest from the others' median goes (a broad torso bent far).
+        for lean in [0.0, 0.3, 0.5, 0.6, -0.5] {
+            let mut joints = torso(3.0, lean);
+            let dropped = drop_stray(&mut joints, CAMERA);
+            assert!(dropped.iter().filter(|&&d| d).count() <= 1, "lean {lean}");
+        }
+        let mut upright = torso(3.0, 0.0);
+        assert_eq!(drop_stray(&mut upright, CAMERA), [false; 4]);
+    }
+
+    #[test]
+    fn a_pair_hidden_by_someone_nearer_is_dropped_whichever_pair_it_is() {
+        // The depth of a person 1.5 m in front of the torso, read at two of its keypoints.
+        for hidden in [[0, 1], [2, 3], [0, 2], [1, 3]] {
+            let mut joints = torso(4.0, 0.0);
+            for k in hidden {
+                joints[TORSO[k]][0] -= 1.5;
+            }
+            let dropped = drop_stray(&mut joints, CAMERA);
+            let expected: [bool; 4] = std::array::from_fn(|k| hidden.contains(&k));
+            assert_eq!(dropped, expected, "hidden {hidden:?}");
+            assert!((0..4).all(|k| joints[TORSO[k]][0].is_nan() == expected[k]));
+        }
+    }
+
+    #[test]
+    fn a_lone_joint_off_the_torso_is_dropped_near_or_far() {
+        // Three seen joints: the odd one out goes, whether it came nearer or farther; within the
+        // span, three joints cannot tell which is off and all stay.
+        for offset in [-2.0, 2.0, -1.2] {
+            let mut joints = torso(4.0, 0.0);
+            joints[RIGHT_HIP] = [f64::NAN; 3];
+            joints[LEFT_HIP][0] += offset;
+            assert_eq!(
+                drop_stray(&mut joints, CAMERA),
+                [false, false, true, false],
+                "offset {offset}"
+            );
+        }
+        let mut joints = torso(4.0, 0.0);
+        joints[RIGHT_HIP] = [f64::NAN; 3];
+        joints[LEFT_HIP][0] -= 0.8;
+        assert_eq!(drop_stray(&mut joints, CAMERA), [false; 4]);
+        // Two seen joints far apart: the one farther from the camera is the person's.
+        let mut joints = torso(4.0, 0.0);
+        joints[LEFT_HIP] = [f64::NAN; 3];
+        joints[RIGHT_HIP] = [f64::NAN; 3];
+        joints[LEFT_SHOULDER][0] -= 2.0;
+        assert_eq!(drop_stray(&mut joints, CAMERA), [true, false, false, false]);
+    }
+
+    #[test]
+    fn nothing_seen_or_one_joint_seen_drops_nothing() {
+        let mut joints = [[f64::NAN; 3]; N_JOINTS];
+        assert_eq!(drop_stray(&mut joints, CAMERA), [false; 4]);
+        joints[RIGHT_HIP] = [3.0, 0.0, 0.9];
+        assert_eq!(drop_stray(&mut joints, CAMERA), [false; 4]);
+    }
+}
