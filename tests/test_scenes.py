@@ -247,6 +247,10 @@ def test_the_oracle_puts_wrong_pairs_right_and_leaves_right_ones():
         pair_is_right(joints[1], 5, 6, np.pi) is False
         and pair_is_right(np.full((17, 3), np.nan), 5, 6, 0.0) is None
     )
+    # Shoulders one above the other have no horizontal normal: no verdict, either way round.
+    stacked = joints[1].copy()
+    stacked[6] = stacked[5] - [0.0, 0.0, 0.3]
+    assert pair_is_right(stacked, 5, 6, 0.0) is None and pair_is_right(stacked, 5, 6, np.pi) is None
     assert put_labels_right(keypoints, joints, [0, 0, -1], truth) == 1
     # The shoulders and the pairs that follow them (eyes, ears, elbows, knees) exchanged; the
     # hips, judged on their own, left.

@@ -24,10 +24,12 @@ JUDGED = ((coco.LEFT_SHOULDER, coco.RIGHT_SHOULDER), (coco.LEFT_HIP, coco.RIGHT_
 def pair_is_right(joints: npt.NDArray[np.float64], left: int, right: int, heading: float) -> bool | None:
     """Whether the normal of the line from ``right`` to ``left`` (world, z up), (left - right) x
     up, lies on the side of the true ``heading`` (azimuth, rad); None where either joint is not
-    seen."""
+    seen, or where the two lie one above the other (the line has no horizontal normal)."""
     if not np.isfinite(joints[[left, right]]).all():
         return None
     d = joints[left] - joints[right]
+    if d[0] == 0.0 and d[1] == 0.0:
+        return None
     normal = (d[1], -d[0])  # (left - right) x up, horizontally
     return bool(np.cos(np.arctan2(normal[1], normal[0]) - heading) > 0)
 
