@@ -5,8 +5,9 @@
 //! joint lifts to the wrong place, often metres off. Such a joint turns the torso plane by tens
 //! of degrees and, in the mean a track is associated by, moves the person further than the
 //! association gate. Both the track ([`crate::Person`]) and the association
-//! ([`crate::tracker::detection_centre`]) take the torso joints through [`drop_stray`] first; to the track, a dropped joint is one not
-//! seen, whose last position the gate carries along with the body.
+//! ([`crate::tracker::detection_centre`]) take the torso joints through [`drop_stray`] first;
+//! to the track, a dropped joint is one not seen, whose last position the gate carries along
+//! with the body.
 
 use crate::coco::{Joints, TORSO};
 use crate::vec3::{distance, finite};

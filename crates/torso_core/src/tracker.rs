@@ -557,7 +557,7 @@ pub fn detection_centre(
 ) -> [f64; 3] {
     let mut seen = *joints;
     for (x, s) in seen.iter_mut().zip(scores) {
-        if !(config.sees(*s) && crate::coco::usable(x)) {
+        if !config.uses(x, *s) {
             *x = [f64::NAN; 3];
         }
     }

@@ -53,6 +53,12 @@ impl PersonConfig {
         score >= self.min_score
     }
 
+    /// Whether a lifted joint scored `score` counts: seen ([`sees`](Self::sees)) and within
+    /// the range a pose may take ([`coco::usable`](crate::coco::usable); NaN is not).
+    pub fn uses(&self, joint: &[f64; 3], score: f64) -> bool {
+        self.sees(score) && crate::coco::usable(joint)
+    }
+
     /// Checks every field, as [`Person::new`](super::Person::new) does.
     pub fn validate(&self) -> Result<()> {
         self.forecaster.validate()?;

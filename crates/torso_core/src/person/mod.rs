@@ -175,7 +175,7 @@ impl Person {
         // A NaN or infinite score makes its keypoint missing, so that no later step (the
         // forecaster's weight) can fail after the track's state has changed.
         for (x, s) in joints.iter_mut().zip(scores.iter_mut()) {
-            if !(self.config.sees(*s) && coco::usable(x)) {
+            if !self.config.uses(x, *s) {
                 *x = [f64::NAN; 3];
             }
             if !s.is_finite() {
