@@ -19,7 +19,8 @@
 //! everything the track remembers of the body's sides are reversed. The labels alone, however
 //! long they agree, build about a memory's worth of evidence; a heading with more than that has
 //! been confirmed recently by another cue, and is reported confident unless the frame's torso
-//! line lies far across the recent heading (a bad plane).
+//! line lies far across the recent heading (a bad plane). The decision owns the side of the pose
+//! the track reports ([`Decision::opposes`]), the plane fitted after the gate only its line.
 
 use crate::coco::{self, Joints};
 use crate::vec3::{distance, finite};
@@ -247,6 +248,26 @@ impl Facing {
             evidence: self.evidence * UNIT_STEP,
             confident: self.evidence > labels_alone && (first || near(heading, recent)),
         }
+    }
+}
+
+impl Decision {
+    /// Whether a torso plane of the same frame, with normal azimuth `azimuth`, has the chest on
+    /// the other side of this decision's torso line: its line lies within
+    /// [`MAX_CONFIDENT_TURN`] of the heading's (the same line, not one across it) and its normal
+    /// points away from the heading. The plane a track reports is fitted after the gate, and the
+    /// gate's replaced joints (earlier positions) can put its sides the other way round; the
+    /// side is the decision's, which weighed every cue.
+    ///
+    /// ```
+    /// use torso_core::sides::Decision;
+    /// let decision = Decision { heading: 0.0, ..Decision::default() };
+    /// assert!(decision.opposes(3.0) && !decision.opposes(0.3));
+    /// // A line across the heading says nothing of the side.
+    /// assert!(!decision.opposes(2.0));
+    /// ```
+    pub fn opposes(&self, azimuth: f64) -> bool {
+        (azimuth - self.heading).cos() < -MAX_CONFIDENT_TURN.cos()
     }
 }
 
