@@ -5,9 +5,8 @@
 //! way the chest faces from the labels, the nose and the walking direction ([`crate::sides`]),
 //! gate every joint against its previous position relative to the body's motion, fit the torso
 //! plane (or, without enough torso joints, take the azimuth from the shoulders; either way on
-//! the side the decision chose), and feed the
-//! pose to the person's forecaster on its fixed-rate grid. Everything is on the stack or sized
-//! at construction.
+//! the side the decision chose), and feed the pose to the person's forecaster on its
+//! fixed-rate grid. Everything is on the stack or sized at construction.
 
 mod config;
 mod observation;
