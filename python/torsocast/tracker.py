@@ -1,7 +1,9 @@
 """Multi-person tracking, in the core (``torso_core::tracker``): detections to tracks by their 3D
 torso centres (the optimal assignment within ``TrackerConfig.gate``), tentative tracks confirmed
 after ``min_hits`` matched frames and given the next id, a confirmed track dropped after
-``max_missing`` s unmatched (a tentative one at its first miss), one person chain per track.
+``max_missing`` s unmatched (a tentative one at its first miss), one person chain per track. A
+detection whose torso centre lies within ``MIN_SEPARATION`` (0.25 m) of one a track took is the
+same body seen twice and opens no track.
 
 :meth:`Tracker.step` takes a frame's 2D keypoints and registered depth image in one call (depth
 lookup, deprojection, association, every track's update and forecast); :meth:`Tracker.update`

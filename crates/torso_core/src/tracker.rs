@@ -6,8 +6,9 @@
 //! Each frame, the cost of giving detection `j` to track `i` is the distance between the track's
 //! last torso centre and the detection's; the optimal assignment ([`Assignment`]) is taken, and
 //! pairs further apart than `gate` are refused. An unmatched detection opens a tentative track,
-//! which is confirmed (and given the next id) after `min_hits` matched frames; a confirmed track
-//! unmatched for `max_missing` seconds is dropped, a tentative one at its first miss.
+//! which is confirmed (and given the next id) after `min_hits` matched frames, unless it lies
+//! within [`MIN_SEPARATION`] of a detection a track took: the same body seen twice. A confirmed
+//! track unmatched for `max_missing` seconds is dropped, a tentative one at its first miss.
 //!
 //! At most `capacity` tracks live at once and a frame holds at most `max_detections`
 //! detections; every buffer grows to those bounds at most, and a dropped track's [`Person`] is
@@ -52,6 +53,13 @@ pub type Keypoints = [[f64; 3]; N_JOINTS];
 
 /// Largest `capacity` and `max_detections` a tracker accepts.
 pub const MAX_CAPACITY: usize = 4096;
+
+/// Two people's torso centres never lie closer than this (m): a torso is about as deep, front to
+/// back, and two bodies do not overlap. A detection this close to one that a track took is the
+/// same body seen twice (a keypoint model's non-maximum suppression, on boxes, leaves two
+/// detections of one person; the keypoints of a person behind another can all read the front
+/// one's depth and lift onto it), and opens no track of its own.
+pub const MIN_SEPARATION: f64 = 0.25;
 
 /// Association, birth and drop rules, and what each track and the depth lookup use.
 ///
@@ -446,6 +454,7 @@ impl Tracker {
             let d = self.placeable[k];
             let slot = match self.matched[d] {
                 Some(slot) => slot,
+                None if self.seen_twice(d) => continue,
                 None => match self.open() {
                     Some(slot) => slot,
                     None => continue,
@@ -516,6 +525,13 @@ impl Tracker {
             }
         }
         Ok(())
+    }
+
+    /// Whether detection `d` lies within [`MIN_SEPARATION`] of a detection a track took.
+    fn seen_twice(&self, d: usize) -> bool {
+        self.placeable.iter().any(|&e| {
+            self.matched[e].is_some() && distance(self.centres[e], self.centres[d]) < MIN_SEPARATION
+        })
     }
 
     /// A new tentative track's slot: a freed one, or a new one below `capacity`.
@@ -673,6 +689,33 @@ mod tests {
             let centre = detection_centre(&joints, &SEEN, &PersonConfig::default(), [0.0; 3]);
             assert!((centre[0] - 4.0).abs() < 1e-9, "frame {k}: {centre:?}");
         }
+    }
+
+    #[test]
+    fn a_body_seen_twice_keeps_one_track_and_two_people_side_by_side_keep_two() {
+        let mut tracker = Tracker::new(TrackerConfig::default()).unwrap();
+        tracker
+            .update(0.0, &[body(3.0, 0.0)], &[SEEN], [0.0; 3])
+            .unwrap();
+        // The same body again, 5 cm off, beside the one the track takes: no second track.
+        let mut twice = body(3.05, 0.0);
+        twice[0][2] += 0.1;
+        let out = tracker
+            .update(0.04, &[body(3.0, 0.0), twice], &[SEEN; 2], [0.0; 3])
+            .unwrap();
+        assert!(out[0].track.is_some() && out[1].track.is_none() && out[1].observation.is_none());
+        assert_eq!(tracker.live(), 1);
+        // A second person with their torso centre 0.4 m away (shoulder to shoulder) gets one.
+        let out = tracker
+            .update(
+                0.08,
+                &[body(3.0, 0.0), body(3.0, 0.4)],
+                &[SEEN; 2],
+                [0.0; 3],
+            )
+            .unwrap();
+        assert!(out[1].track.is_some());
+        assert_eq!(tracker.live(), 2);
     }
 
     #[test]

@@ -228,13 +228,14 @@ fn a_tracker_step_never_allocates_once_it_has_seen_its_busiest_frame() {
     use torso_core::depth::DepthImage;
     use torso_core::tracker::Keypoints;
     let (w, h) = (320usize, 240usize);
-    // Ten people in a row, each a vertical strip of pixels at their own depth; the wall behind.
+    // Ten people in a row, each a vertical strip of pixels at their own depth, far enough apart
+    // to be ten bodies (`MIN_SEPARATION`); the wall behind.
     let people = 10;
-    let mut data = vec![4.0f32; w * h];
+    let mut data = vec![6.0f32; w * h];
     for (i, px) in data.iter_mut().enumerate() {
         let person = (i % w) / (w / people);
         if (i % w) % (w / people) < 20 {
-            *px = 1.5 + 0.1 * person as f32;
+            *px = 1.5 + 0.3 * person as f32;
         }
     }
     let image = DepthImage::new(&data, w, h).unwrap();
