@@ -456,7 +456,11 @@ impl Tracker {
                 Some(slot) => slot,
                 None if self.seen_twice(d) => continue,
                 None => match self.open() {
-                    Some(slot) => slot,
+                    Some(slot) => {
+                        // A second detection of this body later in the frame opens none.
+                        self.matched[d] = Some(slot);
+                        slot
+                    }
                     None => continue,
                 },
             };
@@ -527,7 +531,8 @@ impl Tracker {
         Ok(())
     }
 
-    /// Whether detection `d` lies within [`MIN_SEPARATION`] of a detection a track took.
+    /// Whether detection `d` lies within [`MIN_SEPARATION`] of a detection a track took (or
+    /// opened, earlier in this frame).
     fn seen_twice(&self, d: usize) -> bool {
         self.placeable.iter().any(|&e| {
             self.matched[e].is_some() && distance(self.centres[e], self.centres[d]) < MIN_SEPARATION
@@ -694,9 +699,17 @@ mod tests {
     #[test]
     fn a_body_seen_twice_keeps_one_track_and_two_people_side_by_side_keep_two() {
         let mut tracker = Tracker::new(TrackerConfig::default()).unwrap();
-        tracker
-            .update(0.0, &[body(3.0, 0.0)], &[SEEN], [0.0; 3])
+        // Seen twice from its first frame: one track, the first detection's.
+        let out = tracker
+            .update(
+                0.0,
+                &[body(3.0, 0.0), body(3.05, 0.0)],
+                &[SEEN; 2],
+                [0.0; 3],
+            )
             .unwrap();
+        assert!(out[0].track.is_some() && out[1].track.is_none());
+        assert_eq!(tracker.live(), 1);
         // The same body again, 5 cm off, beside the one the track takes: no second track.
         let mut twice = body(3.05, 0.0);
         twice[0][2] += 0.1;
