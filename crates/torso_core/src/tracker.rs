@@ -699,36 +699,29 @@ mod tests {
     #[test]
     fn a_body_seen_twice_keeps_one_track_and_two_people_side_by_side_keep_two() {
         let mut tracker = Tracker::new(TrackerConfig::default()).unwrap();
+        // Which detections got a track (and a pose), and how many tracks live.
+        let mut frame = |t: f64, bodies: &[Joints]| {
+            let scores = vec![SEEN; bodies.len()];
+            let out = tracker.update(t, bodies, &scores, [0.0; 3]).unwrap();
+            let tracked: Vec<bool> = out
+                .iter()
+                .map(|o| o.track.is_some() && o.observation.is_some())
+                .collect();
+            (tracked, tracker.live())
+        };
         // Seen twice from its first frame: one track, the first detection's.
-        let out = tracker
-            .update(
-                0.0,
-                &[body(3.0, 0.0), body(3.05, 0.0)],
-                &[SEEN; 2],
-                [0.0; 3],
-            )
-            .unwrap();
-        assert!(out[0].track.is_some() && out[1].track.is_none());
-        assert_eq!(tracker.live(), 1);
+        let twice = [body(3.0, 0.0), body(3.05, 0.0)];
+        assert_eq!(frame(0.0, &twice), (vec![true, false], 1));
         // The same body again, 5 cm off, beside the one the track takes: no second track.
-        let mut twice = body(3.05, 0.0);
-        twice[0][2] += 0.1;
-        let out = tracker
-            .update(0.04, &[body(3.0, 0.0), twice], &[SEEN; 2], [0.0; 3])
-            .unwrap();
-        assert!(out[0].track.is_some() && out[1].track.is_none() && out[1].observation.is_none());
-        assert_eq!(tracker.live(), 1);
+        let mut again = body(3.05, 0.0);
+        again[0][2] += 0.1;
+        assert_eq!(
+            frame(0.04, &[body(3.0, 0.0), again]),
+            (vec![true, false], 1)
+        );
         // A second person with their torso centre 0.4 m away (shoulder to shoulder) gets one.
-        let out = tracker
-            .update(
-                0.08,
-                &[body(3.0, 0.0), body(3.0, 0.4)],
-                &[SEEN; 2],
-                [0.0; 3],
-            )
-            .unwrap();
-        assert!(out[1].track.is_some());
-        assert_eq!(tracker.live(), 2);
+        let two = [body(3.0, 0.0), body(3.0, 0.4)];
+        assert_eq!(frame(0.08, &two), (vec![true, true], 2));
     }
 
     #[test]
