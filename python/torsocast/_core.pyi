@@ -280,7 +280,8 @@ class PersonConfig:
         """Largest accepted joint displacement between frames relative to the body's (m)."""
     @property
     def gate_max_replacements(self) -> int:
-        """Frames a joint may be held over before it is lost."""
+        """Frames a joint may be held over before it is lost; at a frame rate under 25 Hz, fewer:
+        no longer than these frames last at 25 Hz (10: 0.4 s)."""
     @property
     def min_score(self) -> float:
         """Keypoints scored below this are missing (the one seen-keypoint rule of every stage)."""

@@ -137,6 +137,18 @@ impl JointGate {
     /// Gates one frame in place: `joints` (NaN = missing) become the gated positions and
     /// `status` says what happened to each. Lengths are checked before any state changes.
     pub fn update(&mut self, joints: &mut [[f64; 3]], status: &mut [JointStatus]) -> Result<()> {
+        self.update_holding(joints, status, self.config.max_replacements)
+    }
+
+    /// [`update`](Self::update), holding a joint over for at most `max_replacements` frames in
+    /// a row instead of the configured count: a caller whose frame rate varies holds a joint
+    /// for a time rather than a number of frames.
+    pub fn update_holding(
+        &mut self,
+        joints: &mut [[f64; 3]],
+        status: &mut [JointStatus],
+        max_replacements: u32,
+    ) -> Result<()> {
         check_len("joints", joints.len(), self.n_joints())?;
         check_len("status", status.len(), self.n_joints())?;
         let limit = self.config.threshold * self.config.threshold;
@@ -148,7 +160,7 @@ impl JointGate {
             let finite = x.iter().all(|v| v.is_finite());
             *st = match *prev {
                 Some(p) if finite && squared_distance(x, &p) <= limit => JointStatus::Measured,
-                Some(_) if *run < self.config.max_replacements => JointStatus::Replaced,
+                Some(_) if *run < max_replacements => JointStatus::Replaced,
                 Some(_) => JointStatus::Lost,
                 None if finite => JointStatus::Measured,
                 None => JointStatus::Lost,
@@ -181,6 +193,20 @@ fn squared_distance(a: &[f64; 3], b: &[f64; 3]) -> f64 {
 mod tests {
     use super::*;
     use JointStatus::*;
+
+    #[test]
+    fn a_joint_is_held_over_as_many_frames_as_the_caller_says() {
+        let mut gate = JointGate::new(1, GateConfig::default()).unwrap();
+        let mut status = [Lost];
+        gate.update(&mut [[0.0, 0.0, 1.0]], &mut status).unwrap();
+        let mut seen = Vec::new();
+        for _ in 0..5 {
+            gate.update_holding(&mut [[f64::NAN; 3]], &mut status, 3)
+                .unwrap();
+            seen.push(status[0]);
+        }
+        assert_eq!(seen, [Replaced, Replaced, Replaced, Lost, Lost]);
+    }
 
     #[test]
     fn swapping_exchanges_two_joints_memories_and_refuses_indices_out_of_range() {

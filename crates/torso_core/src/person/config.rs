@@ -19,6 +19,8 @@ pub struct PersonConfig {
     pub forecaster: ForecasterConfig,
     /// The gate's threshold applies to a joint's motion relative to the body's (see
     /// [`Person::update`](super::Person::update)). Thesis: 0.10 m at about 25 frames per second.
+    /// A track holds a replaced joint over for at most `max_replacements` frames and at most as
+    /// long as those last at that rate ([`GATE_RATE_HZ`](super::GATE_RATE_HZ); 0.4 s by default).
     pub gate: GateConfig,
     /// Keypoints scored below this are missing.
     pub min_score: f64,

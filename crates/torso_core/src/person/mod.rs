@@ -20,6 +20,12 @@ pub use occlusion::{FRONTAL_COSINE, PLAUSIBLE_WIDTH};
 /// (half the shoulder-to-hip distance of an adult), in metres.
 pub const SHOULDER_TO_CENTRE: f64 = 0.25;
 
+/// The frame rate (Hz) the thesis' joint gate was set for: a track holds a replaced joint over
+/// for at most `GateConfig::max_replacements` frames and at most as long as those frames last
+/// at this rate (a joint held ten frames at 10 frames per second would stand still for a whole
+/// second while the body moves on).
+pub const GATE_RATE_HZ: f64 = 25.0;
+
 /// Most horizons one [`Person::forecast`] call takes.
 pub const MAX_HORIZONS: usize = 32;
 
@@ -168,6 +174,7 @@ impl Person {
                 value: scores[index],
             });
         }
+        let step = self.last_t.map(|last| t - last);
         self.last_t = Some(t);
 
         let mut joints = *joints;
@@ -198,7 +205,7 @@ impl Person {
             coco::swap_sides(&mut scores);
             coco::swap_sides(&mut completed);
         }
-        let status = self.gate(&mut joints);
+        let status = self.gate(&mut joints, step);
         self.previous = Some(joints);
 
         let (mut pose, estimate, weight) = self.torso_pose(&joints, &status, &scores);
@@ -371,8 +378,10 @@ impl Person {
     /// per second every joint of a walker moves 4 cm a frame, and an absolute gate holds a
     /// rejected joint still while the body walks away from it until it is lost. The body's
     /// motion is the median displacement of the joints seen in this frame and the last, robust
-    /// to the one joint that jumps and unaffected by which joints happen to be seen.
-    fn gate(&mut self, joints: &mut Joints) -> [JointStatus; N_JOINTS] {
+    /// to the one joint that jumps and unaffected by which joints happen to be seen. At a low
+    /// frame rate a joint is held over for fewer frames ([`GATE_RATE_HZ`]; `frame_step`, seconds
+    /// since the last frame, is `None` on a track's first).
+    fn gate(&mut self, joints: &mut Joints, frame_step: Option<f64>) -> [JointStatus; N_JOINTS] {
         if let Some(step) = self.previous.as_ref().and_then(|p| median_step(joints, p)) {
             for k in 0..3 {
                 self.body_motion[k] += step[k];
@@ -382,8 +391,12 @@ impl Person {
             *x = sub(*x, self.body_motion);
         }
         let mut status = [JointStatus::Lost; N_JOINTS];
+        let frames = self.config.gate.max_replacements;
+        let held = frame_step.map_or(frames, |dt| {
+            ((f64::from(frames) / GATE_RATE_HZ / dt).round().max(1.0) as u32).min(frames)
+        });
         self.gate
-            .update(joints, &mut status)
+            .update_holding(joints, &mut status, held)
             .expect("the gate was built for N_JOINTS joints");
         for x in joints.iter_mut() {
             *x = add(*x, self.body_motion);
@@ -675,6 +688,33 @@ mod tests {
         assert!((pose[AZIMUTH] - 2.6).abs() < 1e-9);
         for (got, want) in pose[..3].iter().zip([2.02, 0.0, 1.0]) {
             assert!((got - want).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn a_joint_no_longer_seen_is_held_over_no_longer_at_a_low_frame_rate() {
+        // The default holds a joint over ten frames and at most 0.4 s (ten frames at 25 Hz):
+        // 4 frames at 10 frames per second, 6 at 15, 10 at 25 and at 30.
+        for (rate, held) in [(10.0, 4), (15.0, 6), (25.0, 10), (30.0, 10)] {
+            let mut track = Person::new(PersonConfig::default()).unwrap();
+            let (joints, scores) = person([3.0, 0.0, 1.0], PI, true);
+            let mut statuses = Vec::new();
+            for k in 0..20 {
+                let mut frame = joints;
+                if k >= 5 {
+                    frame[LEFT_HIP] = [f64::NAN; 3];
+                }
+                let obs = track
+                    .update(k as f64 / rate, &frame, &scores, CAMERA)
+                    .unwrap();
+                statuses.push(obs.status[LEFT_HIP]);
+            }
+            let replaced = statuses
+                .iter()
+                .filter(|&&s| s == JointStatus::Replaced)
+                .count();
+            assert_eq!(replaced, held, "{rate} Hz");
+            assert_eq!(statuses[5 + held], JointStatus::Lost, "{rate} Hz");
         }
     }
 
