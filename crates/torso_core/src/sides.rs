@@ -20,7 +20,7 @@
 //! long they agree, build about a memory's worth of evidence; a heading with more than that has
 //! been confirmed recently by another cue, and is reported confident unless the frame's torso
 //! line lies far across the recent heading (a bad plane). The decision owns the side of the pose
-//! the track reports ([`Decision::opposes`]), the plane fitted after the gate only its line.
+//! the track reports ([`Facing::opposes`]), the plane fitted after the gate only its line.
 
 use crate::coco::{self, Joints};
 use crate::vec3::{distance, finite};
@@ -165,6 +165,29 @@ pub struct Facing {
 }
 
 impl Facing {
+    /// Whether a torso plane with normal azimuth `azimuth` has the chest on the other side of
+    /// the track's heading (its last decision's): the plane's line lies within
+    /// [`MAX_CONFIDENT_TURN`] of the heading's (the same line, not one across it) and its
+    /// normal points away from the heading. The plane a track reports is fitted after the gate,
+    /// and the gate's replaced joints (earlier positions) can put its sides the other way
+    /// round, in a frame the track decided on as in one whose joints allowed no decision; the
+    /// side is the decision's, which weighed every cue. `false` before any decision.
+    ///
+    /// ```
+    /// use torso_core::sides::{Cues, Facing, FacingConfig};
+    /// let mut facing = Facing::default();
+    /// assert!(!facing.opposes(3.0));
+    /// let cues = Cues { labelled: 0.0, centre: [2.0, 0.0, 1.0], nose: None, knees: None };
+    /// facing.decide(0.0, &cues, &FacingConfig::default());
+    /// assert!(facing.opposes(3.0) && !facing.opposes(0.3));
+    /// // A line across the heading says nothing of the side.
+    /// assert!(!facing.opposes(2.0));
+    /// ```
+    pub fn opposes(&self, azimuth: f64) -> bool {
+        self.heading
+            .is_some_and(|h| (azimuth - h).cos() < -MAX_CONFIDENT_TURN.cos())
+    }
+
     /// The decision for a frame at `t` with these cues.
     pub fn decide(&mut self, t: f64, cues: &Cues, config: &FacingConfig) -> Decision {
         let Cues {
@@ -248,26 +271,6 @@ impl Facing {
             evidence: self.evidence * UNIT_STEP,
             confident: self.evidence > labels_alone && (first || near(heading, recent)),
         }
-    }
-}
-
-impl Decision {
-    /// Whether a torso plane of the same frame, with normal azimuth `azimuth`, has the chest on
-    /// the other side of this decision's torso line: its line lies within
-    /// [`MAX_CONFIDENT_TURN`] of the heading's (the same line, not one across it) and its normal
-    /// points away from the heading. The plane a track reports is fitted after the gate, and the
-    /// gate's replaced joints (earlier positions) can put its sides the other way round; the
-    /// side is the decision's, which weighed every cue.
-    ///
-    /// ```
-    /// use torso_core::sides::Decision;
-    /// let decision = Decision { heading: 0.0, ..Decision::default() };
-    /// assert!(decision.opposes(3.0) && !decision.opposes(0.3));
-    /// // A line across the heading says nothing of the side.
-    /// assert!(!decision.opposes(2.0));
-    /// ```
-    pub fn opposes(&self, azimuth: f64) -> bool {
-        (azimuth - self.heading).cos() < -MAX_CONFIDENT_TURN.cos()
     }
 }
 

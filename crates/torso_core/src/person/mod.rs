@@ -191,11 +191,12 @@ impl Person {
         }
         crate::stray::drop_stray(&mut joints, camera_position);
         let mut completed = self.complete_occluded(&mut joints, camera_position);
-        let decided = labelled_heading(&joints).map(|(labelled, centre)| {
-            let cues = Cues::of(&joints, labelled, centre);
-            self.facing.decide(t, &cues, &self.config.facing)
-        });
-        let decision = decided.unwrap_or_default();
+        let decision = labelled_heading(&joints)
+            .map(|(labelled, centre)| {
+                let cues = Cues::of(&joints, labelled, centre);
+                self.facing.decide(t, &cues, &self.config.facing)
+            })
+            .unwrap_or_default();
         if decision.turned {
             self.turn_round();
         }
@@ -209,10 +210,8 @@ impl Person {
         self.previous = Some(joints);
 
         let (mut pose, estimate, weight) = self.torso_pose(&joints, &status, &scores);
-        if let (Some(p), Some(d)) = (pose.as_mut(), decided) {
-            if d.opposes(p[AZIMUTH]) {
-                turn_pose_round(p);
-            }
+        if let Some(p) = pose.as_mut().filter(|p| self.facing.opposes(p[AZIMUTH])) {
+            turn_pose_round(p);
         }
         let mut grid = GridReport::default();
         if let Some(pose) = pose {
