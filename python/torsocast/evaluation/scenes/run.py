@@ -98,14 +98,17 @@ def _live(scene: RenderedScene, pipeline: Pipeline, record: dict[str, list] | No
 def _replay(scene: RenderedScene, pipeline: Pipeline, path: Path, oracle: bool = False):  # type: ignore[no-untyped-def]
     """The frames' detections and lifted joints as recorded, through the tracking stages only;
     with ``oracle``, their left/right labels put right by the truth first (:mod:`.oracle`)."""
-    data = np.load(path)
+    # Each item of an .npz is read (and decompressed) again on every access: read them once.
+    with np.load(path) as archive:
+        data = {name: archive[name] for name in archive.files}
     ends = np.cumsum(data["people"])
     for k, t in enumerate(scene.spec.times):
         rows = slice(ends[k] - data["people"][k], ends[k])
-        keypoints, joints = data["keypoints"][rows].copy(), data["joints"][rows].copy()
+        keypoints, joints = data["keypoints"][rows], data["joints"][rows]
         owner = data["owner"][rows].tolist()
         truth = np.array([scene.truth_at(i, t) for i in range(len(scene.clips))]).reshape(-1, 5)
         if oracle:
+            keypoints, joints = keypoints.copy(), joints.copy()  # put right in place
             put_labels_right(keypoints, joints, owner, truth)
         detections = Detections(keypoints, np.zeros((len(keypoints), 4)), np.ones(len(keypoints)))
         frame = Frame(k, float(t), np.zeros((1, 1, 3), np.uint8), None, scene.camera)
