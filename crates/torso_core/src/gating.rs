@@ -278,6 +278,11 @@ mod tests {
             gate.update(&mut j, &mut [Lost; 2]),
             Err(Error::LengthMismatch { name: "joints", .. })
         ));
+        let mut pair = [[0.0; 3], [1.0; 3]];
+        assert!(matches!(
+            gate.update_holding(&mut pair, &mut [Lost; 3], 4),
+            Err(Error::LengthMismatch { name: "status", .. })
+        ));
         let mut j = [[0.0; 3], [1.0; 3]];
         let mut st = [Lost; 2];
         gate.update(&mut j, &mut st).unwrap();
