@@ -15,9 +15,10 @@ from conftest import shared_path
 from torsocast import wrap_angle
 from torsocast.cli import main
 from torsocast.datasets import cmu
-from torsocast.evaluation.scenes.score import assign, view_angle
+from torsocast.evaluation.scenes.score import TrackSide, assign, flip_source, view_angle
 from torsocast.evaluation.scenes.tables import (
     distance_bin,
+    flip_source_table,
     forecast_table,
     loss_intervals,
     losses,
@@ -169,6 +170,34 @@ def test_view_and_distance_bins():
         "3-4 m",
         "4 m and more",
     ]
+
+
+def test_a_flip_is_put_down_to_the_first_rule_that_explains_it():
+    side = TrackSide()
+    # Azimuth errors (rad): 3.0 is the right line on the wrong side, 2.0 a line 65 degrees off.
+    steps = [
+        (3.0, False, "born wrong"),  # not yet right with this person
+        (2.0, False, "bad plane"),  # the line first, whatever else
+        (0.1, False, ""),
+        (3.0, False, "side lost"),  # over with no turn
+        (3.0, True, "turned wrong"),  # a turn round onto the wrong side...
+        (3.0, False, "turned wrong"),  # ...and still on it
+        (0.2, True, ""),  # turned back
+        (3.0, False, "side lost"),
+    ]
+    for error, reoriented, source in steps:
+        assert flip_source(error, reoriented, side) == source, (error, reoriented)
+    assert side.frames == len(steps)
+    rows = flip_source_table(
+        {
+            "flip_source": np.array(["", "bad plane", "born wrong", "side lost", "side lost"]),
+            "track_frames": np.array([1, 2, 3, 11, 30]),
+        }
+    )
+    by = {r["source"]: r for r in rows}
+    assert [r["source"] for r in rows] == ["bad plane", "born wrong", "turned wrong", "side lost"]
+    assert by["side lost"]["flips"] == 2 and by["side lost"]["share"] == 0.5 and by["side lost"]["young"] == 0
+    assert by["born wrong"]["young"] == 1 and by["turned wrong"]["flips"] == 0
 
 
 def test_a_flip_rate_interval_resamples_scenes_not_frames():

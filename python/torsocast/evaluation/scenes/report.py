@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from .run import Benchmark
-from .score import COMPONENTS, METHODS
+from .score import COMPONENTS, METHODS, YOUNG_FRAMES
 from .tables import CHECKED_AXES, FLIP_DEG, INTERVAL, UNIT, checked_cells, tables
 
 METHOD_NAMES = {
@@ -166,6 +166,22 @@ def _forecast_by_md(rows: list[dict[str, Any]], axis: str, component: str) -> li
     return out
 
 
+def _flip_sources_md(rows: list[dict[str, Any]]) -> list[str]:
+    out = [
+        "Each flipped estimate by the first rule that explains it (`score.flip_source`): bad plane, "
+        "the torso line more than 45 degrees off the truth's; born wrong, a track not yet on the "
+        "right side with this person; turned wrong, its last turn round took it to the wrong side; "
+        f"side lost, gone over with no turn. Young: in the track's first {YOUNG_FRAMES} frames with "
+        "the person.",
+        "",
+        "| source | flips | share of flips | young |",
+        "|---|---:|---:|---:|",
+    ]
+    for r in rows:
+        out.append(f"| {r['source']} | {r['flips']} | {_pct(r['share'])} | {r['young']} |")
+    return out
+
+
 def markdown(bench: Benchmark, t: dict[str, Any], figures: list[str]) -> str:
     rec = t["recovery"]["all"][0]
     kind = "quick run" if bench.quick else "full run"
@@ -193,6 +209,7 @@ def markdown(bench: Benchmark, t: dict[str, Any], figures: list[str]) -> str:
     for axis in ("all", "view", "distance", "people", "category", "fps"):
         lines += ["", f"### By {AXIS_NAMES[axis]}" if axis != "all" else "### All", ""]
         lines += _recovery_md(t["recovery"][axis], axis)
+    lines += ["", "### Where the flips come from", "", *_flip_sources_md(t["flip_sources"])]
     lines += ["", "## Forecasts", ""]
     lines.append(
         "Every forecast of a confirmed track against the true pose at the time it aims at, beside "

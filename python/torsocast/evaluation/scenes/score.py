@@ -32,6 +32,40 @@ COMPONENTS = ("centre", "azimuth", "elevation")
 POSE_COMPONENTS = ("x", "y", "z", "azimuth", "elevation")
 #: Seconds a person must stay in view after their track ends for the track to count as lost.
 LOST_AFTER = 1.0
+#: Why an estimate is flipped (:func:`flip_source`), in the order the rules are tried.
+FLIP_SOURCES = ("bad plane", "born wrong", "turned wrong", "side lost")
+#: A track's first frames with a person: where a track born on the wrong side shows.
+YOUNG_FRAMES = 10
+
+
+@dataclass
+class TrackSide:
+    """What one track has done with one person's heading so far (:func:`flip_source`)."""
+
+    frames: int = 0
+    ever_right: bool = False
+    turned_wrong: bool = False
+
+
+def flip_source(azimuth_error: float, reoriented: bool, side: TrackSide) -> str:
+    """Why a track's estimate of a person is flipped (azimuth error over 90 degrees), or ``""``
+    where it is not, updating ``side`` with this frame. The torso line more than 45 degrees off
+    the truth's is a bad plane, whichever side it took; with a good line, a track that has not
+    yet been on the right side with this person was born wrong, one whose last turn round
+    (``reoriented``) took it to the wrong side turned wrong, and the rest lost the side with no
+    turn (a stretch of bad planes carries the heading over)."""
+    flipped = azimuth_error > np.pi / 2
+    side.frames += 1
+    if reoriented:
+        side.turned_wrong = flipped
+    if not flipped:
+        side.ever_right = True
+        return ""
+    if min(azimuth_error, np.pi - azimuth_error) > np.pi / 4:
+        return "bad plane"
+    if not side.ever_right:
+        return "born wrong"
+    return "turned wrong" if side.turned_wrong else "side lost"
 
 
 def assign(keypoints: F64, labels: npt.NDArray[np.int8], min_score: float) -> list[int]:
@@ -90,6 +124,7 @@ class Scorer:
         self.score = SceneScore()
         self.velocity: dict[int, Forecaster] = {}
         self.seen_ids: dict[int, list[tuple[float, int | None]]] = defaultdict(list)
+        self.sides: dict[tuple[int, int], TrackSide] = defaultdict(TrackSide)
         spec = scene.spec
         self.conditions = {
             "scene": spec.name,
@@ -139,6 +174,13 @@ class Scorer:
             err[3] = abs(float(wrap_angle(err[3])))
             for name, value in zip(POSE_COMPONENTS, err):
                 r[name].append(float(value))
+            source, frames = "", 0
+            if pose is not None and person is not None and person.key is not None:
+                side = self.sides[(person.key, actor)]
+                source = flip_source(float(err[3]), bool(person.observation.reoriented), side)
+                frames = side.frames
+            r["flip_source"].append(source)
+            r["track_frames"].append(frames)
             track_id = person.track_id if person is not None else None
             self.seen_ids[actor].append((t, track_id))
             if pose is not None and person is not None and d in result.forecasts:

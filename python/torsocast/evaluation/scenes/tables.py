@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from .score import COMPONENTS, METHODS
+from .score import COMPONENTS, FLIP_SOURCES, METHODS, YOUNG_FRAMES
 
 Columns = dict[str, np.ndarray]
 
@@ -162,6 +162,27 @@ def recovery_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
     return rows
 
 
+def flip_source_table(cols: Columns) -> list[dict[str, Any]]:
+    """Per :data:`~.score.FLIP_SOURCES` entry: the flipped person-frames it explains, their share
+    of all flips, and how many of them fell in a track's first :data:`~.score.YOUNG_FRAMES`
+    frames with the person."""
+    sources = np.asarray(cols["flip_source"]).astype(str)
+    young = np.asarray(cols["track_frames"]) <= YOUNG_FRAMES
+    total = int((sources != "").sum())
+    rows = []
+    for source in FLIP_SOURCES:
+        mine = sources == source
+        rows.append(
+            {
+                "source": source,
+                "flips": int(mine.sum()),
+                "share": float(mine.sum() / total) if total else float("nan"),
+                "young": int((mine & young).sum()),
+            }
+        )
+    return rows
+
+
 def forecast_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
     """Per group and horizon: forecasts, and each method's median, mean and 90th percentile of
     each component's error (cm or degrees)."""
@@ -292,6 +313,7 @@ def tables(recovery: Columns, forecasts: Columns, identity: Columns) -> dict[str
         "forecasts": {str(a or "all"): forecast_table(forecasts, a) for a in axes},
         "identity": {str(a or "all"): identity_table(identity, a) for a in (None, "people", "category")},
         "coverage": {str(a or "all"): coverage_table(forecasts, a) for a in (None, "category", "view")},
+        "flip_sources": flip_source_table(recovery),
     }
     out["losses"] = {
         against: loss_intervals(forecasts, losses(out["forecasts"], against), against)
