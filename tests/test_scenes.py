@@ -365,11 +365,12 @@ def test_two_runs_compare_by_the_same_draws_of_their_scenes(tmp_path, capsys):
     def write(folder, flipped_per_scene):
         folder.mkdir()
         with (folder / "recovery.csv").open("w") as f:
-            f.write("scene,t,actor,estimated,confident,azimuth\n")
+            f.write("scene,t,actor,estimated,confident,azimuth,flip_source\n")
             for scene in range(20):
                 for k in range(10):
                     azimuth = 3.0 if k < flipped_per_scene[scene] else 0.1
-                    f.write(f"s{scene:02d},{k / 10},0,True,True,{azimuth}\n")
+                    source = "side lost" if k < flipped_per_scene[scene] else ""
+                    f.write(f"s{scene:02d},{k / 10},0,True,True,{azimuth},{source}\n")
 
     rng = np.random.default_rng(1)
     base = rng.integers(0, 3, 20)
@@ -378,6 +379,9 @@ def test_two_runs_compare_by_the_same_draws_of_their_scenes(tmp_path, capsys):
     assert main(["eval", "compare", str(tmp_path / "a"), str(tmp_path / "b")]) == 0
     out = capsys.readouterr().out
     assert "| flips (%) | " in out and "| +10.00 | +10.00 to +10.00 |" in out
+    # Every extra flip is a lost side: that row moves with the flips, the others stay at zero.
+    assert re.search(r"\| flips: side lost \(% of estimates\) \| [0-9.]+ \| [0-9.]+ \| \+10\.00 \|", out)
+    assert "| flips: bad plane (% of estimates) | 0.00 | 0.00 | +0.00 | +0.00 to +0.00 |" in out
     assert "larger than the draw of scenes explains" in out
     assert main(["eval", "compare", str(tmp_path / "a"), str(tmp_path / "a")]) == 0
     assert "+0.00 to +0.00" in capsys.readouterr().out

@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from .score import COMPONENTS
+from .score import COMPONENTS, FLIP_SOURCES
 from .tables import (
     CHECKED_AXES,
     FLIP_DEG,
@@ -84,8 +84,9 @@ def _flips(cols: Columns) -> tuple[np.ndarray, np.ndarray]:
 def compare(before: Columns, after: Columns) -> dict[str, Any]:
     """Per measure, both runs' values, their difference and its paired interval: the flip rate
     over the estimates, over the headings each run calls confident (where both recorded it),
-    and the azimuth error's median and 90th percentile (degrees). Refuses runs of different
-    person-frames."""
+    the share of the estimates flipped from each of :data:`~.score.FLIP_SOURCES` (where both
+    recorded them), and the azimuth error's median and 90th percentile (degrees). Refuses runs
+    of different person-frames."""
     for key in KEYS:
         if len(before[key]) != len(after[key]) or (before[key] != after[key]).any():
             raise ValueError(f"the runs are of different scenes or frames (their {key!r} columns differ)")
@@ -108,6 +109,14 @@ def compare(before: Columns, after: Columns) -> dict[str, Any]:
             rates.append(float(flipped[counted].mean()) if counted.any() else float("nan"))
             draws.append(scene_draws(index[counted], len(names), flipped[counted]))
         record(name, rates, draws)
+    if "flip_source" in before and "flip_source" in after:
+        for source in FLIP_SOURCES:
+            rates, draws = [], []
+            for cols, estimated, _ in runs:
+                mine = (cols["flip_source"] == source)[estimated]
+                rates.append(float(mine.mean()) if len(mine) else float("nan"))
+                draws.append(scene_draws(index[estimated], len(names), mine))
+            record(f"flips_{source}", rates, draws)
     for name, q in (("azimuth_median", 50.0), ("azimuth_p90", 90.0)):
         values, draws = [], []
         for cols, estimated, _ in runs:
@@ -205,6 +214,7 @@ def markdown(result: dict[str, Any]) -> str:
     rows = (
         ("flips", "flips (%)", 100.0),
         ("flips_confident", "flips where confident (%)", 100.0),
+        *((f"flips_{s}", f"flips: {s} (% of estimates)", 100.0) for s in FLIP_SOURCES),
         ("azimuth_median", "azimuth error median (deg)", 1.0),
         ("azimuth_p90", "azimuth error 90th percentile (deg)", 1.0),
     )
