@@ -17,10 +17,9 @@ from typing import Any
 
 import numpy as np
 
-from .score import COMPONENTS, FLIP_SOURCES
+from .score import COMPONENTS, FLIP_DEG, FLIP_SOURCES
 from .tables import (
     CHECKED_AXES,
-    FLIP_DEG,
     INTERVAL,
     SCALE,
     Columns,

@@ -11,8 +11,8 @@ from typing import Any
 import numpy as np
 
 from .run import Benchmark
-from .score import COMPONENTS, METHODS, YOUNG_FRAMES
-from .tables import CHECKED_AXES, FLIP_DEG, INTERVAL, UNIT, checked_cells, tables
+from .score import COMPONENTS, FLIP_DEG, METHODS, YOUNG_FRAMES
+from .tables import CHECKED_AXES, INTERVAL, UNIT, checked_cells, tables
 
 METHOD_NAMES = {
     "forecast": "torsocast",

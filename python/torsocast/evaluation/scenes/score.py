@@ -32,6 +32,11 @@ COMPONENTS = ("centre", "azimuth", "elevation")
 POSE_COMPONENTS = ("x", "y", "z", "azimuth", "elevation")
 #: Seconds a person must stay in view after their track ends for the track to count as lost.
 LOST_AFTER = 1.0
+#: Azimuth error beyond which an estimate is a front/back flip (degrees).
+FLIP_DEG = 90.0
+#: Torso line error beyond which a flipped estimate's plane is to blame (degrees): the line lies
+#: nearer across the true one than along it.
+BAD_LINE_DEG = 45.0
 #: Why an estimate is flipped (:func:`flip_source`), in the order the rules are tried.
 FLIP_SOURCES = ("bad plane", "born wrong", "turned wrong", "side lost")
 #: A track's first frames with a person: where a track born on the wrong side shows.
@@ -54,14 +59,14 @@ def flip_source(azimuth_error: float, reoriented: bool, side: TrackSide) -> str:
     yet been on the right side with this person was born wrong, one whose last turn round
     (``reoriented``) took it to the wrong side turned wrong, and the rest lost the side with no
     turn (a stretch of bad planes carries the heading over)."""
-    flipped = azimuth_error > np.pi / 2
+    flipped = azimuth_error > np.radians(FLIP_DEG)
     side.frames += 1
     if reoriented:
         side.turned_wrong = flipped
     if not flipped:
         side.ever_right = True
         return ""
-    if min(azimuth_error, np.pi - azimuth_error) > np.pi / 4:
+    if min(azimuth_error, np.pi - azimuth_error) > np.radians(BAD_LINE_DEG):
         return "bad plane"
     if not side.ever_right:
         return "born wrong"

@@ -9,12 +9,9 @@ from typing import Any
 
 import numpy as np
 
-from .score import COMPONENTS, FLIP_SOURCES, METHODS, YOUNG_FRAMES
+from .score import COMPONENTS, FLIP_DEG, FLIP_SOURCES, METHODS, YOUNG_FRAMES
 
 Columns = dict[str, np.ndarray]
-
-#: Azimuth error beyond which an estimate is a front/back flip (degrees).
-FLIP_DEG = 90.0
 DISTANCE_EDGES = (1.0, 2.0, 3.0, 4.0)
 #: The bins the edges make, nearest first.
 DISTANCE_LABELS = ("under 1 m", "1-2 m", "2-3 m", "3-4 m", "4 m and more")
