@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from .run import Benchmark
-from .score import COMPONENTS, FLIP_DEG, METHODS, YOUNG_FRAMES
+from .score import BAD_LINE_DEG, COMPONENTS, FLIP_DEG, METHODS, YOUNG_FRAMES
 from .tables import CHECKED_AXES, INTERVAL, UNIT, checked_cells, tables
 
 METHOD_NAMES = {
@@ -169,10 +169,10 @@ def _forecast_by_md(rows: list[dict[str, Any]], axis: str, component: str) -> li
 def _flip_sources_md(rows: list[dict[str, Any]]) -> list[str]:
     out = [
         "Each flipped estimate by the first rule that explains it (`score.flip_source`): bad plane, "
-        "the torso line more than 45 degrees off the truth's; born wrong, a track not yet on the "
-        "right side with this person; turned wrong, its last turn round took it to the wrong side; "
-        f"side lost, gone over with no turn. Young: in the track's first {YOUNG_FRAMES} frames with "
-        "the person.",
+        f"the torso line more than {BAD_LINE_DEG:g} degrees off the truth's; born wrong, a track not "
+        "yet on the right side with this person; turned wrong, its last turn round took it to the "
+        "wrong side; side lost, gone over with no turn. Young: in the track's first "
+        f"{YOUNG_FRAMES} frames with the person.",
         "",
         "| source | flips | share of flips | young |",
         "|---|---:|---:|---:|",
