@@ -362,7 +362,7 @@ def test_two_runs_compare_their_forecasts_scene_by_scene(tmp_path, capsys):
 def test_two_runs_compare_by_the_same_draws_of_their_scenes(tmp_path, capsys):
     # Twenty scenes of ten frames; the second run flips one more frame in every scene, which no
     # draw of the scenes can hide; the first run against itself changes nothing at all.
-    def write(folder, flipped_per_scene):
+    def write(folder, flipped_per_scene, draw="s"):
         folder.mkdir()
         with (folder / "recovery.csv").open("w") as f:
             f.write("scene,t,actor,estimated,confident,azimuth,flip_source\n")
@@ -370,7 +370,7 @@ def test_two_runs_compare_by_the_same_draws_of_their_scenes(tmp_path, capsys):
                 for k in range(10):
                     azimuth = 3.0 if k < flipped_per_scene[scene] else 0.1
                     source = "side lost" if k < flipped_per_scene[scene] else ""
-                    f.write(f"s{scene:02d},{k / 10},0,True,True,{azimuth},{source}\n")
+                    f.write(f"{draw}{scene:02d},{k / 10},0,True,True,{azimuth},{source}\n")
 
     rng = np.random.default_rng(1)
     base = rng.integers(0, 3, 20)
@@ -385,6 +385,15 @@ def test_two_runs_compare_by_the_same_draws_of_their_scenes(tmp_path, capsys):
     assert "larger than the draw of scenes explains" in out
     assert main(["eval", "compare", str(tmp_path / "a"), str(tmp_path / "a")]) == 0
     assert "+0.00 to +0.00" in capsys.readouterr().out
+    # A second draw of other scenes where the change flips nothing more: pooled, 40 scenes and
+    # half the change; a pair sharing scenes with the first is refused.
+    write(tmp_path / "e", base, draw="t")
+    pooled = ["eval", "compare", str(tmp_path / "a"), str(tmp_path / "b"), "--also"]
+    assert main([*pooled, str(tmp_path / "e"), str(tmp_path / "e")]) == 0
+    out = capsys.readouterr().out
+    assert "| 40 scenes |" in out and "| flips (%) | " in out and "| +5.00 |" in out
+    assert main([*pooled, str(tmp_path / "a"), str(tmp_path / "b")]) == 2
+    assert "share scenes" in capsys.readouterr().err
     # Runs of other frames, or a folder without a record, are one line and exit code 2.
     (tmp_path / "c").mkdir()
     (tmp_path / "c" / "recovery.csv").write_text("scene,t,actor,estimated,azimuth\nx,0,0,True,0\n")

@@ -182,14 +182,18 @@ def _eval_compare(args: argparse.Namespace) -> int:
         compare_forecasts,
         forecasts_markdown,
         markdown,
+        pool,
         read,
         read_forecasts,
     )
 
+    pairs = [(args.before, args.after), *(args.also or [])]
     try:
-        result = compare(read(args.before), read(args.after))
-        forecasts = [read_forecasts(args.before), read_forecasts(args.after)]
-        cells = compare_forecasts(*forecasts) if all(f is not None for f in forecasts) else None
+        result = compare(*(pool([read(pair[k]) for pair in pairs]) for k in (0, 1)))
+        forecasts = [[read_forecasts(pair[k]) for pair in pairs] for k in (0, 1)]
+        cells = None
+        if all(f is not None for side in forecasts for f in side):
+            cells = compare_forecasts(*(pool(side) for side in forecasts))  # type: ignore[arg-type]
     except (OSError, ValueError, KeyError) as e:
         print(f"torsocast eval compare: {e}", file=sys.stderr)
         return 2
@@ -402,6 +406,13 @@ def main(argv: list[str] | None = None) -> int:
     )
     cp.add_argument("before", help="the --out folder of the first run")
     cp.add_argument("after", help="the --out folder of the second run")
+    cp.add_argument(
+        "--also",
+        nargs=2,
+        action="append",
+        metavar=("BEFORE", "AFTER"),
+        help="a further pair of runs on other scenes (another --seed), pooled with the first; repeatable",
+    )
     cp.set_defaults(run=_eval_compare)
     fc.set_defaults(run=_forecast)
     args = parser.parse_args(argv)

@@ -6,7 +6,9 @@ paired: drawing the scenes again with replacement, the same draw for both runs, 
 difference of their flip rates move? ``torsocast eval compare BEFORE AFTER`` reads the
 ``recovery.csv`` of each run's output folder, and where both have one their ``forecasts.csv``:
 the change of each motion category's and view bin's median forecast error per component and
-horizon, with its interval over the same draws.
+horizon, with its interval over the same draws. Pairs of runs on other scenes (another
+``--seed``) can be pooled with the first (``--also BEFORE AFTER``): the draws then take scenes
+from all of them.
 """
 
 from __future__ import annotations
@@ -49,6 +51,19 @@ def read(folder: str | Path) -> Columns:
     """A run's ``recovery.csv`` as columns."""
     rows = _records(Path(folder) / "recovery.csv", (*KEYS, "estimated", "azimuth"))
     return {k: np.array([r[k] for r in rows]) for k in rows[0]}
+
+
+def pool(runs: list[Columns]) -> Columns:
+    """The records of runs on different scenes (draws of other seeds) as one: the columns all
+    of them hold, end to end. Refuses runs that share a scene (it would count twice)."""
+    seen: set[str] = set()
+    for cols in runs:
+        names = set(np.unique(cols["scene"]).tolist())
+        if names & seen:
+            raise ValueError(f"the pooled runs share scenes ({sorted(names & seen)[0]} and others)")
+        seen |= names
+    keys = [k for k in runs[0] if all(k in cols for cols in runs[1:])]
+    return {k: np.concatenate([cols[k] for cols in runs]) for k in keys}
 
 
 #: The columns of ``forecasts.csv`` a comparison reads: two labels, then numbers.
