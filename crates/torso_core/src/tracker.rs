@@ -576,13 +576,7 @@ pub fn detection_centre(
     config: &PersonConfig,
     camera: [f64; 3],
 ) -> [f64; 3] {
-    let mut seen = *joints;
-    for (x, s) in seen.iter_mut().zip(scores) {
-        if !config.uses(x, *s) {
-            *x = [f64::NAN; 3];
-        }
-    }
-    crate::stray::drop_stray(&mut seen, camera);
+    let seen = config.used_joints(joints, scores, camera);
     let torso_seen = TORSO.iter().any(|&j| finite(&seen[j]));
     let mut total = [0.0; 3];
     let mut n = 0usize;

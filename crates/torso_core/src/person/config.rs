@@ -1,6 +1,6 @@
 //! What a track is configured with.
 
-use crate::coco::N_JOINTS;
+use crate::coco::{Joints, N_JOINTS};
 use crate::error::{Error, Result};
 use crate::forecaster::ForecasterConfig;
 use crate::gating::{GateConfig, JointGate};
@@ -59,6 +59,41 @@ impl PersonConfig {
     /// the range a pose may take ([`coco::usable`](crate::coco::usable); NaN is not).
     pub fn uses(&self, joint: &[f64; 3], score: f64) -> bool {
         self.sees(score) && crate::coco::usable(joint)
+    }
+
+    /// The joints a track works from, and the association places a detection by: those not
+    /// counted ([`uses`](Self::uses)) missing (NaN), then the torso joints whose depth came off
+    /// something else dropped ([`crate::stray`], seen from `camera`).
+    ///
+    /// ```
+    /// use torso_core::coco::{N_JOINTS, LEFT_SHOULDER, RIGHT_SHOULDER, LEFT_HIP, RIGHT_HIP, NOSE};
+    /// use torso_core::PersonConfig;
+    /// let mut joints = [[f64::NAN; 3]; N_JOINTS];
+    /// joints[NOSE] = [4.0, 0.0, 1.7];
+    /// joints[LEFT_SHOULDER] = [1.0, -0.2, 1.4]; // the depth of someone 3 m nearer
+    /// joints[RIGHT_SHOULDER] = [1.0, 0.2, 1.4];
+    /// joints[LEFT_HIP] = [4.0, -0.12, 0.9];
+    /// joints[RIGHT_HIP] = [4.0, 0.12, 0.9];
+    /// let mut scores = [0.9; N_JOINTS];
+    /// scores[NOSE] = 0.1; // below `min_score`
+    /// let used = PersonConfig::default().used_joints(&joints, &scores, [0.0, 0.0, 1.0]);
+    /// assert!(used[NOSE][0].is_nan() && used[LEFT_SHOULDER][0].is_nan());
+    /// assert_eq!(used[LEFT_HIP], joints[LEFT_HIP]);
+    /// ```
+    pub fn used_joints(
+        &self,
+        joints: &Joints,
+        scores: &[f64; N_JOINTS],
+        camera: [f64; 3],
+    ) -> Joints {
+        let mut used = *joints;
+        for (x, &s) in used.iter_mut().zip(scores) {
+            if !self.uses(x, s) {
+                *x = [f64::NAN; 3];
+            }
+        }
+        crate::stray::drop_stray(&mut used, camera);
+        used
     }
 
     /// Checks every field, as [`Person::new`](super::Person::new) does.

@@ -177,19 +177,10 @@ impl Person {
         let step = self.last_t.map(|last| t - last);
         self.last_t = Some(t);
 
-        let mut joints = *joints;
-        let mut scores = *scores;
-        // A NaN or infinite score makes its keypoint missing, so that no later step (the
+        // A NaN score makes its keypoint missing and weighs nothing, so that no later step (the
         // forecaster's weight) can fail after the track's state has changed.
-        for (x, s) in joints.iter_mut().zip(scores.iter_mut()) {
-            if !self.config.uses(x, *s) {
-                *x = [f64::NAN; 3];
-            }
-            if !s.is_finite() {
-                *s = 0.0;
-            }
-        }
-        crate::stray::drop_stray(&mut joints, camera_position);
+        let mut joints = self.config.used_joints(joints, scores, camera_position);
+        let mut scores = scores.map(|s| if s.is_finite() { s } else { 0.0 });
         let mut completed = self.complete_occluded(&mut joints, camera_position);
         let decision = labelled_heading(&joints)
             .map(|(labelled, centre)| {
