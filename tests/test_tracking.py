@@ -145,7 +145,10 @@ def test_without_hips_the_azimuth_comes_from_the_shoulders():
     obs = track.update(0.04, joints, scores, CAMERA)
     assert obs.estimate == "shoulders"
     assert obs.pose[3] == pytest.approx(2.6)
-    assert obs.pose[:3] == pytest.approx([2.02, 0.0, 1.0])
+    # The learned centre, moved behind the surface along the camera's ray as every centre is.
+    centre = np.array([2.02, 0.0, 1.0])
+    ray = (centre - CAMERA) / np.linalg.norm(centre - CAMERA)
+    assert obs.pose[:3] == pytest.approx(centre + PersonConfig().surface_depth * ray)
 
 
 def test_frames_faster_than_the_grid_are_skipped_and_gaps_are_filled():
@@ -202,8 +205,11 @@ def test_tracker_keeps_ids_through_a_crossing_and_a_missed_frame():
     forecast = tracker.forecast(1, [0.4])
     # x ahead of a, who walks at 1 m/s: the damped trend carries 1.5 (1 - e^(-0.4/1.5)) m in
     # 0.4 s; the 1 Hz zero-phase filter's end effect on the ramp costs a few centimetres more.
+    # The centre lies ``surface_depth`` behind the joints along the camera's ray (mostly +x).
     carried = 1.5 * (1 - np.exp(-0.4 / 1.5))
-    assert forecast[0, 0] == pytest.approx(1.0 + 74 / 25 + carried, abs=0.08)
+    x = 1.0 + 74 / 25 + carried
+    behind = PersonConfig().surface_depth * x / np.linalg.norm([x, 0.6, 1.0])
+    assert forecast[0, 0] == pytest.approx(x + behind, abs=0.08)
 
 
 def test_tracker_drops_tracks_and_refuses_far_matches():
@@ -288,6 +294,10 @@ def test_configs_are_frozen_values_built_from_the_cores_defaults():
         with pytest.raises(tc.InvalidArgumentError, match=next(iter(bad))):
             TrackerConfig(**bad)
     assert tc.Person(PersonConfig(gate_max_replacements=3)).config.gate_max_replacements == 3
+    for depth in (-0.01, 0.5, float("nan")):
+        with pytest.raises(tc.InvalidArgumentError, match="surface_depth"):
+            PersonConfig(surface_depth=depth)
+    assert PersonConfig(surface_depth=0.0).surface_depth == 0.0
 
 
 def test_a_walkers_track_checks_its_forecasts_and_gives_intervals():

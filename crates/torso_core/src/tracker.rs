@@ -569,7 +569,8 @@ impl Tracker {
 
 /// Where a detection is, for association: the mean of its seen torso joints, after those whose
 /// depth came off something else ([`crate::stray`], seen from `camera`), else of every seen
-/// joint; NaN when it has no seen joint in 3D.
+/// joint, moved behind the surface ([`PersonConfig::behind_surface`]); NaN when it has no seen
+/// joint in 3D.
 pub fn detection_centre(
     joints: &Joints,
     scores: &[f64; N_JOINTS],
@@ -591,7 +592,8 @@ pub fn detection_centre(
     if n == 0 {
         return [f64::NAN; 3];
     }
-    total.map(|v| v / n as f64)
+    // Placed as a track's centre is, behind the surface, so that the two compare.
+    config.behind_surface(total.map(|v| v / n as f64), camera)
 }
 
 #[cfg(test)]
@@ -685,7 +687,12 @@ mod tests {
                 .unwrap();
             assert_eq!(out[0].track.unwrap().id, (k >= 2).then_some(1), "frame {k}");
             assert_eq!(tracker.live(), 1);
-            let centre = detection_centre(&joints, &SEEN, &PersonConfig::default(), [0.0; 3]);
+            // On the surface (no depth behind it), the hips' x: the shoulders were dropped.
+            let surface = PersonConfig {
+                surface_depth: 0.0,
+                ..PersonConfig::default()
+            };
+            let centre = detection_centre(&joints, &SEEN, &surface, [0.0; 3]);
             assert!((centre[0] - 4.0).abs() < 1e-9, "frame {k}: {centre:?}");
         }
     }

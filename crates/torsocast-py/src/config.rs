@@ -91,7 +91,8 @@ pub fn newargs<'py>(py: Python<'py>, fields: Fields<'py>) -> PyResult<Bound<'py,
 }
 
 /// PersonConfig(forecaster=None, *, gate_threshold, gate_max_replacements, min_score,
-/// facing_memory, face_weight, knee_weight, motion_weight, self_check, occlusion_ratio): one
+/// facing_memory, face_weight, knee_weight, motion_weight, self_check, occlusion_ratio,
+/// surface_depth): one
 /// track's parameters (`torso_core::PersonConfig`); each left out takes the core's default.
 #[pyclass(module = "torsocast._core", frozen, eq)]
 #[derive(Clone)]
@@ -154,6 +155,10 @@ impl PersonConfig {
                 "occlusion_ratio",
                 c.occlusion_ratio.into_pyobject(py)?.into_any(),
             ),
+            (
+                "surface_depth",
+                c.surface_depth.into_pyobject(py)?.into_any(),
+            ),
         ])
     }
 }
@@ -163,7 +168,7 @@ frozen_config!(PersonConfig, {
     #[pyo3(signature = (
         forecaster=None, *, gate_threshold=None, gate_max_replacements=None, min_score=None,
         facing_memory=None, face_weight=None, knee_weight=None, motion_weight=None,
-        self_check=None, occlusion_ratio=None
+        self_check=None, occlusion_ratio=None, surface_depth=None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn new(
@@ -177,6 +182,7 @@ frozen_config!(PersonConfig, {
         motion_weight: Option<f64>,
         self_check: Option<bool>,
         occlusion_ratio: Option<f64>,
+        surface_depth: Option<f64>,
     ) -> PyResult<Self> {
         let d = torso_core::PersonConfig::default();
         let inner = torso_core::PersonConfig {
@@ -198,6 +204,7 @@ frozen_config!(PersonConfig, {
             },
             self_check: self_check.unwrap_or(d.self_check),
             occlusion_ratio: occlusion_ratio.unwrap_or(d.occlusion_ratio),
+            surface_depth: surface_depth.unwrap_or(d.surface_depth),
         };
         inner.validate().map_err(to_py)?;
         Ok(Self::from_core(inner))
@@ -254,6 +261,12 @@ frozen_config!(PersonConfig, {
     #[getter]
     fn occlusion_ratio(&self) -> f64 {
         self.inner.occlusion_ratio
+    }
+    /// How far (m) the torso's centre lies behind the body's surface the depth camera sees,
+    /// along its ray; 0 for joints that are joint centres already (mocap, a skeleton tracker).
+    #[getter]
+    fn surface_depth(&self) -> f64 {
+        self.inner.surface_depth
     }
 });
 

@@ -33,7 +33,20 @@ pub struct PersonConfig {
     /// A shoulder or hip pair measured shorter than this fraction of its learned width has the
     /// depth of its far joint corrected (see [`Person::update`](super::Person::update)); 0 turns the correction off.
     pub occlusion_ratio: f64,
+    /// How far (m) the torso's centre lies behind the body's surface along the camera's ray.
+    /// Joints lifted from a depth image lie on the surface the camera sees, in front of the
+    /// joint centres a torso pose is defined by, so the centre is moved back this far
+    /// ([`behind_surface`](Self::behind_surface)); 0 for joints that are joint centres already
+    /// (mocap, a skeleton tracker's). The default is the median of that offset on the scenes
+    /// benchmark's development split (docs/benchmark.md), about half an adult torso's depth.
+    pub surface_depth: f64,
 }
+
+/// [`PersonConfig::surface_depth`]'s default (m).
+const SURFACE_DEPTH: f64 = 0.09;
+
+/// Largest [`PersonConfig::surface_depth`] accepted (m): more than any torso's half depth.
+const MAX_SURFACE_DEPTH: f64 = 0.3;
 
 impl Default for PersonConfig {
     fn default() -> Self {
@@ -44,6 +57,7 @@ impl Default for PersonConfig {
             facing: FacingConfig::default(),
             self_check: true,
             occlusion_ratio: 0.8,
+            surface_depth: SURFACE_DEPTH,
         }
     }
 }
@@ -96,6 +110,25 @@ impl PersonConfig {
         used
     }
 
+    /// `point`, seen on the body's surface from `camera`, moved [`surface_depth`](Self::surface_depth)
+    /// further along the camera's ray: where the joint centres lie.
+    ///
+    /// ```
+    /// use torso_core::PersonConfig;
+    /// let config = PersonConfig { surface_depth: 0.1, ..PersonConfig::default() };
+    /// let centre = config.behind_surface([3.0, 4.0, 1.0], [0.0, 0.0, 1.0]);
+    /// assert!((centre[0] - 3.06).abs() < 1e-12 && (centre[1] - 4.08).abs() < 1e-12);
+    /// ```
+    pub fn behind_surface(&self, point: [f64; 3], camera: [f64; 3]) -> [f64; 3] {
+        let ray = crate::vec3::sub(point, camera);
+        let range = crate::vec3::norm(ray);
+        if !(range > 0.0) {
+            return point;
+        }
+        let scale = self.surface_depth / range;
+        std::array::from_fn(|k| point[k] + scale * ray[k])
+    }
+
     /// Checks every field, as [`Person::new`](super::Person::new) does.
     pub fn validate(&self) -> Result<()> {
         self.forecaster.validate()?;
@@ -144,6 +177,13 @@ impl PersonConfig {
                 name: "occlusion_ratio",
                 expected: "a fraction in [0, 1): 0 turns the correction off",
                 value: self.occlusion_ratio,
+            });
+        }
+        if !(0.0..=MAX_SURFACE_DEPTH).contains(&self.surface_depth) {
+            return Err(Error::InvalidArgument {
+                name: "surface_depth",
+                expected: "a depth in metres from 0 to 0.3",
+                value: self.surface_depth,
             });
         }
         Ok(())

@@ -201,6 +201,12 @@ impl Person {
         self.previous = Some(joints);
 
         let (mut pose, estimate, weight) = self.torso_pose(&joints, &status, &scores);
+        if let Some(p) = pose.as_mut() {
+            let [x, y, z] = self
+                .config
+                .behind_surface([p[0], p[1], p[2]], camera_position);
+            (p[0], p[1], p[2]) = (x, y, z);
+        }
         if let Some(p) = pose.as_mut().filter(|p| self.facing.opposes(p[AZIMUTH])) {
             turn_pose_round(p);
         }
@@ -676,9 +682,33 @@ mod tests {
         assert_eq!(obs.estimate, Estimate::Shoulders);
         let pose = obs.pose.unwrap();
         assert!((pose[AZIMUTH] - 2.6).abs() < 1e-9);
-        for (got, want) in pose[..3].iter().zip([2.02, 0.0, 1.0]) {
+        // The learned centre, behind the surface as every centre is.
+        let want = track.config().behind_surface([2.02, 0.0, 1.0], CAMERA);
+        for (got, want) in pose[..3].iter().zip(want) {
             assert!((got - want).abs() < 1e-9);
         }
+    }
+
+    #[test]
+    fn the_centre_lies_surface_depth_behind_the_joints_along_the_camera_ray() {
+        let (joints, scores) = person([3.0, 1.0, 1.0], PI, true);
+        let centre_of = |surface_depth: f64| {
+            let config = PersonConfig {
+                surface_depth,
+                ..PersonConfig::default()
+            };
+            let obs = Person::new(config)
+                .unwrap()
+                .update(0.0, &joints, &scores, CAMERA)
+                .unwrap();
+            let pose = obs.pose.unwrap();
+            [pose[0], pose[1], pose[2]]
+        };
+        let (on, behind) = (centre_of(0.0), centre_of(0.1));
+        let ray = sub(on, CAMERA);
+        let moved = sub(behind, on);
+        assert!((norm(moved) - 0.1).abs() < 1e-9);
+        assert!((dot(moved, ray) / (norm(moved) * norm(ray)) - 1.0).abs() < 1e-9);
     }
 
     #[test]
