@@ -9,6 +9,8 @@ from torsocast.keypoints import coco
 from torsocast.tracker import PersonConfig, Tracker, TrackerConfig
 
 CAMERA = np.zeros(3)  # camera at the world origin, people in front of it along +x
+# The joints built here are joint centres, not a depth camera's surface points.
+CENTRES = PersonConfig(surface_depth=(0.0, 0.0))
 
 
 def person(centre, yaw, hips=True):
@@ -47,7 +49,7 @@ def test_a_turning_person_keeps_the_detectors_labels_and_a_short_swap_is_undone(
     # YOLO-pose and MoveNet label the sides right in back views too (every frame of the real
     # turntable sequence, with three models), so the labels decide; a detector's swap of a few
     # frames is exchanged back.
-    track = tc.Person()
+    track = tc.Person(CENTRES)
     yaws = np.pi + np.radians(np.arange(0, 360, 4))  # facing the camera, then turning round
     errors, swaps = [], 0
     for k, yaw in enumerate(yaws):
@@ -138,17 +140,30 @@ def test_a_heading_is_confident_only_where_a_cue_beside_the_labels_agrees():
 
 
 def test_without_hips_the_azimuth_comes_from_the_shoulders():
-    track = tc.Person()
+    track = tc.Person(CENTRES)
     joints, scores = person([2.0, 0.0, 1.0], 2.5)
     track.update(0.0, joints, scores, CAMERA)  # plane: learns where the centre sits
     joints, scores = person([2.02, 0.0, 1.0], 2.6, hips=False)
     obs = track.update(0.04, joints, scores, CAMERA)
     assert obs.estimate == "shoulders"
     assert obs.pose[3] == pytest.approx(2.6)
-    # The learned centre, moved behind the surface along the camera's ray as every centre is.
-    centre = np.array([2.02, 0.0, 1.0])
-    ray = (centre - CAMERA) / np.linalg.norm(centre - CAMERA)
-    assert obs.pose[:3] == pytest.approx(centre + PersonConfig().surface_depth * ray)
+    assert obs.pose[:3] == pytest.approx([2.02, 0.0, 1.0])
+
+
+def test_the_plane_goes_through_the_joint_centres_behind_the_surface():
+    # The default takes joints for a depth camera's surface points: the shoulders and the hips
+    # move back by their depths, along the ray to the torso, before the plane is fitted.
+    joints, scores = person([3.0, 1.0, 1.0], np.pi)
+    obs = tc.Person().update(0.0, joints, scores, CAMERA)
+    torso = joints[list(coco.TORSO)]
+    ray = torso.mean(axis=0) - CAMERA
+    depths = np.repeat(PersonConfig().surface_depth, 2)[:, None]
+    moved = torso + depths * ray / np.linalg.norm(ray)
+    plane = tc.fit_planes(moved[None], coco.TORSO_SIDES)
+    assert obs.pose[:3] == pytest.approx(plane["centre"][0], abs=1e-9)
+    assert obs.pose[3:] == pytest.approx([plane["azimuth"][0], plane["elevation"][0]], abs=1e-9)
+    # Facing the camera, the hips moved back further than the shoulders lean the chest down.
+    assert obs.pose[4] > np.pi / 2 + 1e-3
 
 
 def test_frames_faster_than_the_grid_are_skipped_and_gaps_are_filled():
@@ -183,7 +198,7 @@ def walkers(t):
 
 
 def test_tracker_keeps_ids_through_a_crossing_and_a_missed_frame():
-    tracker = Tracker(TrackerConfig(min_hits=3, max_missing=0.5))
+    tracker = Tracker(TrackerConfig(min_hits=3, max_missing=0.5, person=CENTRES))
     ids_a, ids_b, ids_c = set(), set(), set()
     for k in range(75):
         t = k / 25
@@ -205,11 +220,8 @@ def test_tracker_keeps_ids_through_a_crossing_and_a_missed_frame():
     forecast = tracker.forecast(1, [0.4])
     # x ahead of a, who walks at 1 m/s: the damped trend carries 1.5 (1 - e^(-0.4/1.5)) m in
     # 0.4 s; the 1 Hz zero-phase filter's end effect on the ramp costs a few centimetres more.
-    # The centre lies ``surface_depth`` behind the joints along the camera's ray (mostly +x).
     carried = 1.5 * (1 - np.exp(-0.4 / 1.5))
-    x = 1.0 + 74 / 25 + carried
-    behind = PersonConfig().surface_depth * x / np.linalg.norm([x, 0.6, 1.0])
-    assert forecast[0, 0] == pytest.approx(x + behind, abs=0.08)
+    assert forecast[0, 0] == pytest.approx(1.0 + 74 / 25 + carried, abs=0.08)
 
 
 def test_tracker_drops_tracks_and_refuses_far_matches():
@@ -294,10 +306,10 @@ def test_configs_are_frozen_values_built_from_the_cores_defaults():
         with pytest.raises(tc.InvalidArgumentError, match=next(iter(bad))):
             TrackerConfig(**bad)
     assert tc.Person(PersonConfig(gate_max_replacements=3)).config.gate_max_replacements == 3
-    for depth in (-0.01, 0.5, float("nan")):
+    for depths in ((-0.01, 0.09), (0.06, 0.5), (float("nan"), 0.09)):
         with pytest.raises(tc.InvalidArgumentError, match="surface_depth"):
-            PersonConfig(surface_depth=depth)
-    assert PersonConfig(surface_depth=0.0).surface_depth == 0.0
+            PersonConfig(surface_depth=depths)
+    assert PersonConfig(surface_depth=(0.0, 0.0)).surface_depth == (0.0, 0.0)
 
 
 def test_a_walkers_track_checks_its_forecasts_and_gives_intervals():

@@ -271,7 +271,7 @@ class PersonConfig:
         motion_weight: float | None = None,
         self_check: bool | None = None,
         occlusion_ratio: float | None = None,
-        surface_depth: float | None = None,
+        surface_depth: tuple[float, float] | None = None,
     ) -> PersonConfig: ...
     @property
     def forecaster(self) -> ForecasterConfig:
@@ -306,9 +306,10 @@ class PersonConfig:
         """A pair shorter than this fraction of its learned width has its far joint's depth
         completed; 0 turns it off."""
     @property
-    def surface_depth(self) -> float:
-        """How far (m) the torso's centre lies behind the body's surface the depth camera sees,
-        along its ray; 0 for joints that are joint centres already (mocap, a skeleton tracker)."""
+    def surface_depth(self) -> tuple[float, float]:
+        """How far (m) the shoulders' and the hips' joint centres lie behind the body's surface the
+        depth camera sees, along its rays: (shoulders, hips); (0, 0) for joints that are joint
+        centres already (mocap, a skeleton tracker's)."""
     def replace(self, **changes: object) -> PersonConfig: ...
     def __getnewargs_ex__(self) -> tuple[tuple[()], dict[str, object]]: ...
 

@@ -569,15 +569,17 @@ impl Tracker {
 
 /// Where a detection is, for association: the mean of its seen torso joints, after those whose
 /// depth came off something else ([`crate::stray`], seen from `camera`), else of every seen
-/// joint, moved behind the surface ([`PersonConfig::behind_surface`]); NaN when it has no seen
-/// joint in 3D.
+/// joint, the torso's moved behind the surface as a track moves them
+/// ([`PersonConfig::behind_surface`]); NaN when it has no seen joint in 3D.
 pub fn detection_centre(
     joints: &Joints,
     scores: &[f64; N_JOINTS],
     config: &PersonConfig,
     camera: [f64; 3],
 ) -> [f64; 3] {
-    let seen = config.used_joints(joints, scores, camera);
+    let mut seen = config.used_joints(joints, scores, camera);
+    // Placed as a track's centre is, from the torso's joint centres behind the surface.
+    config.behind_surface(&mut seen, camera);
     let torso_seen = TORSO.iter().any(|&j| finite(&seen[j]));
     let mut total = [0.0; 3];
     let mut n = 0usize;
@@ -592,8 +594,7 @@ pub fn detection_centre(
     if n == 0 {
         return [f64::NAN; 3];
     }
-    // Placed as a track's centre is, behind the surface, so that the two compare.
-    config.behind_surface(total.map(|v| v / n as f64), camera)
+    total.map(|v| v / n as f64)
 }
 
 #[cfg(test)]
@@ -689,7 +690,7 @@ mod tests {
             assert_eq!(tracker.live(), 1);
             // On the surface (no depth behind it), the hips' x: the shoulders were dropped.
             let surface = PersonConfig {
-                surface_depth: 0.0,
+                surface_depth: [0.0; 2],
                 ..PersonConfig::default()
             };
             let centre = detection_centre(&joints, &SEEN, &surface, [0.0; 3]);

@@ -157,7 +157,9 @@ impl PersonConfig {
             ),
             (
                 "surface_depth",
-                c.surface_depth.into_pyobject(py)?.into_any(),
+                (c.surface_depth[0], c.surface_depth[1])
+                    .into_pyobject(py)?
+                    .into_any(),
             ),
         ])
     }
@@ -182,7 +184,7 @@ frozen_config!(PersonConfig, {
         motion_weight: Option<f64>,
         self_check: Option<bool>,
         occlusion_ratio: Option<f64>,
-        surface_depth: Option<f64>,
+        surface_depth: Option<(f64, f64)>,
     ) -> PyResult<Self> {
         let d = torso_core::PersonConfig::default();
         let inner = torso_core::PersonConfig {
@@ -204,7 +206,7 @@ frozen_config!(PersonConfig, {
             },
             self_check: self_check.unwrap_or(d.self_check),
             occlusion_ratio: occlusion_ratio.unwrap_or(d.occlusion_ratio),
-            surface_depth: surface_depth.unwrap_or(d.surface_depth),
+            surface_depth: surface_depth.map_or(d.surface_depth, |(s, h)| [s, h]),
         };
         inner.validate().map_err(to_py)?;
         Ok(Self::from_core(inner))
@@ -262,11 +264,12 @@ frozen_config!(PersonConfig, {
     fn occlusion_ratio(&self) -> f64 {
         self.inner.occlusion_ratio
     }
-    /// How far (m) the torso's centre lies behind the body's surface the depth camera sees,
-    /// along its ray; 0 for joints that are joint centres already (mocap, a skeleton tracker).
+    /// How far (m) the shoulders' and the hips' joint centres lie behind the body's surface the
+    /// depth camera sees, along its rays: (shoulders, hips); (0, 0) for joints that are joint
+    /// centres already (mocap, a skeleton tracker's).
     #[getter]
-    fn surface_depth(&self) -> f64 {
-        self.inner.surface_depth
+    fn surface_depth(&self) -> (f64, f64) {
+        (self.inner.surface_depth[0], self.inner.surface_depth[1])
     }
 });
 

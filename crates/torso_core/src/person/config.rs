@@ -33,17 +33,20 @@ pub struct PersonConfig {
     /// A shoulder or hip pair measured shorter than this fraction of its learned width has the
     /// depth of its far joint corrected (see [`Person::update`](super::Person::update)); 0 turns the correction off.
     pub occlusion_ratio: f64,
-    /// How far (m) the torso's centre lies behind the body's surface along the camera's ray.
-    /// Joints lifted from a depth image lie on the surface the camera sees, in front of the
-    /// joint centres a torso pose is defined by, so the centre is moved back this far
-    /// ([`behind_surface`](Self::behind_surface)); 0 for joints that are joint centres already
-    /// (mocap, a skeleton tracker's). The default is the median of that offset on the scenes
-    /// benchmark's development split (docs/benchmark.md), about half an adult torso's depth.
-    pub surface_depth: f64,
+    /// How far (m) the shoulders' and the hips' joint centres lie behind the body's surface
+    /// along the camera's ray. Joints lifted from a depth image lie on the surface the camera
+    /// sees, in front of the joint centres a torso pose is defined by, so the plane is fitted
+    /// to the torso joints moved back this far ([`behind_surface`](Self::behind_surface)); 0 for
+    /// joints that are joint centres already (mocap, a skeleton tracker's). The hips lie deeper
+    /// than the shoulders: moved back alike, the plane would lean towards the camera's side.
+    /// The defaults are the medians of those offsets for the measured (not completed) joints
+    /// on the scenes benchmark's development split (docs/benchmark.md), about the body's radius
+    /// at the shoulder and the hip.
+    pub surface_depth: [f64; 2],
 }
 
-/// [`PersonConfig::surface_depth`]'s default (m).
-const SURFACE_DEPTH: f64 = 0.09;
+/// [`PersonConfig::surface_depth`]'s default (m): shoulders, hips.
+const SURFACE_DEPTH: [f64; 2] = [0.06, 0.09];
 
 /// Largest [`PersonConfig::surface_depth`] accepted (m): more than any torso's half depth.
 const MAX_SURFACE_DEPTH: f64 = 0.3;
@@ -110,23 +113,46 @@ impl PersonConfig {
         used
     }
 
-    /// `point`, seen on the body's surface from `camera`, moved [`surface_depth`](Self::surface_depth)
-    /// further along the camera's ray: where the joint centres lie.
+    /// The shoulders and hips of `joints`, seen on the body's surface from `camera`, each moved
+    /// its pair's [`surface_depth`](Self::surface_depth) further from the camera, along the ray
+    /// to the seen torso joints' mean: where the joint centres lie. One direction for all four
+    /// moves the torso back and leans it by the pairs' difference, nothing else; along their
+    /// own rays, which diverge, the pairs would also spread across the view (and the azimuths
+    /// came out worse on the scenes benchmark: the keypoints mark the body's outline, not the
+    /// rays through its joint centres). The other joints, and missing ones, are left as they
+    /// are.
     ///
     /// ```
+    /// use torso_core::coco::{N_JOINTS, LEFT_SHOULDER, LEFT_HIP, NOSE};
     /// use torso_core::PersonConfig;
-    /// let config = PersonConfig { surface_depth: 0.1, ..PersonConfig::default() };
-    /// let centre = config.behind_surface([3.0, 4.0, 1.0], [0.0, 0.0, 1.0]);
-    /// assert!((centre[0] - 3.06).abs() < 1e-12 && (centre[1] - 4.08).abs() < 1e-12);
+    /// let config = PersonConfig { surface_depth: [0.1, 0.2], ..PersonConfig::default() };
+    /// let mut joints = [[f64::NAN; 3]; N_JOINTS];
+    /// joints[LEFT_SHOULDER] = [3.0, 4.0, 1.0]; // 5 m from the camera, level with it
+    /// joints[LEFT_HIP] = [3.0, 4.0, 1.0];
+    /// joints[NOSE] = [3.0, 4.0, 1.0];
+    /// config.behind_surface(&mut joints, [0.0, 0.0, 1.0]);
+    /// assert!((joints[LEFT_SHOULDER][0] - 3.06).abs() < 1e-12 && (joints[LEFT_SHOULDER][1] - 4.08).abs() < 1e-12);
+    /// assert!((joints[LEFT_HIP][0] - 3.12).abs() < 1e-12 && (joints[LEFT_HIP][1] - 4.16).abs() < 1e-12);
+    /// assert_eq!(joints[NOSE], [3.0, 4.0, 1.0]);
     /// ```
-    pub fn behind_surface(&self, point: [f64; 3], camera: [f64; 3]) -> [f64; 3] {
-        let ray = crate::vec3::sub(point, camera);
-        let range = crate::vec3::norm(ray);
-        if !(range > 0.0) {
-            return point;
+    pub fn behind_surface(&self, joints: &mut Joints, camera: [f64; 3]) {
+        let (mut sum, mut n) = ([0.0; 3], 0.0);
+        for &j in crate::coco::TORSO.iter() {
+            if crate::vec3::finite(&joints[j]) {
+                sum = crate::vec3::add(sum, joints[j]);
+                n += 1.0;
+            }
         }
-        let scale = self.surface_depth / range;
-        std::array::from_fn(|k| point[k] + scale * ray[k])
+        let ray = crate::vec3::sub(sum.map(|v| v / n), camera);
+        let range = crate::vec3::norm(ray);
+        if !(n > 0.0 && range > 0.0 && range.is_finite()) {
+            return;
+        }
+        let along = ray.map(|v| v / range);
+        for (k, &j) in crate::coco::TORSO.iter().enumerate() {
+            let depth = self.surface_depth[k / 2];
+            joints[j] = std::array::from_fn(|i| joints[j][i] + depth * along[i]);
+        }
     }
 
     /// Checks every field, as [`Person::new`](super::Person::new) does.
@@ -179,11 +205,15 @@ impl PersonConfig {
                 value: self.occlusion_ratio,
             });
         }
-        if !(0.0..=MAX_SURFACE_DEPTH).contains(&self.surface_depth) {
+        if let Some(&depth) = self
+            .surface_depth
+            .iter()
+            .find(|d| !(0.0..=MAX_SURFACE_DEPTH).contains(*d))
+        {
             return Err(Error::InvalidArgument {
                 name: "surface_depth",
-                expected: "a depth in metres from 0 to 0.3",
-                value: self.surface_depth,
+                expected: "depths in metres from 0 to 0.3 (shoulders, hips)",
+                value: depth,
             });
         }
         Ok(())

@@ -200,13 +200,11 @@ impl Person {
         let status = self.gate(&mut joints, step);
         self.previous = Some(joints);
 
-        let (mut pose, estimate, weight) = self.torso_pose(&joints, &status, &scores);
-        if let Some(p) = pose.as_mut() {
-            let [x, y, z] = self
-                .config
-                .behind_surface([p[0], p[1], p[2]], camera_position);
-            (p[0], p[1], p[2]) = (x, y, z);
-        }
+        // The plane through the joint centres, not the surface the depth camera saw; the cues
+        // above compare joints as read, and the gate holds them so.
+        let mut centres = joints;
+        self.config.behind_surface(&mut centres, camera_position);
+        let (mut pose, estimate, weight) = self.torso_pose(&centres, &status, &scores);
         if let Some(p) = pose.as_mut().filter(|p| self.facing.opposes(p[AZIMUTH])) {
             turn_pose_round(p);
         }
@@ -524,6 +522,14 @@ mod tests {
 
     /// An upright person at `c` facing azimuth `yaw`, with a visible face when facing the camera
     /// at the origin.
+    /// The joints these tests build are joint centres, not a depth camera's surface points.
+    fn centres_given() -> PersonConfig {
+        PersonConfig {
+            surface_depth: [0.0; 2],
+            ..PersonConfig::default()
+        }
+    }
+
     fn person(c: [f64; 3], yaw: f64, hips: bool) -> (Joints, [f64; N_JOINTS]) {
         let (s, co) = yaw.sin_cos();
         let at = |side: f64, up: f64, fwd: f64| {
@@ -567,7 +573,7 @@ mod tests {
         // as the track does), turned where the track exchanged the labels.
         let config = PersonConfig {
             occlusion_ratio: 0.0,
-            ..PersonConfig::default()
+            ..centres_given()
         };
         let mut track = Person::new(config).unwrap();
         let mut seed = 7_u64;
@@ -608,7 +614,7 @@ mod tests {
 
     #[test]
     fn a_turning_person_labelled_right_keeps_the_labels_and_a_short_swap_is_undone() {
-        let mut track = Person::new(PersonConfig::default()).unwrap();
+        let mut track = Person::new(centres_given()).unwrap();
         for k in 0..90 {
             let yaw = PI + (4.0 * k as f64).to_radians();
             let (mut joints, mut scores) = person([2.0, 0.0, 1.0], yaw, true);
@@ -634,7 +640,7 @@ mod tests {
     #[test]
     fn a_new_track_takes_the_labels_even_from_behind() {
         let (joints, scores) = person([2.0, 0.5, 1.0], 0.2, true); // back to the camera
-        let mut track = Person::new(PersonConfig::default()).unwrap();
+        let mut track = Person::new(centres_given()).unwrap();
         let obs = track.update(0.0, &joints, &scores, CAMERA).unwrap();
         assert!(!obs.swapped && angle_error(obs.pose.unwrap()[AZIMUTH], 0.2) < 1e-9);
     }
@@ -643,7 +649,7 @@ mod tests {
     fn a_track_born_the_wrong_way_turns_round_with_its_history() {
         // Born from exchanged labels while walking towards +y and facing it; then labelled
         // right, with the nose in front: the cues turn the track round, history included.
-        let mut track = Person::new(PersonConfig::default()).unwrap();
+        let mut track = Person::new(centres_given()).unwrap();
         let mut turned = 0;
         for k in 0..40 {
             let t = k as f64 / 25.0;
@@ -675,40 +681,69 @@ mod tests {
     #[test]
     fn without_hips_the_shoulders_give_the_azimuth_and_the_learned_centre() {
         let mut track = Person::new(PersonConfig::default()).unwrap();
-        let (joints, scores) = person([2.0, 0.0, 1.0], 2.5, true);
-        track.update(0.0, &joints, &scores, CAMERA).unwrap();
-        let (joints, scores) = person([2.02, 0.0, 1.0], 2.6, false);
-        let obs = track.update(0.04, &joints, &scores, CAMERA).unwrap();
+        let (first, scores) = person([2.0, 0.0, 1.0], 2.5, true);
+        track.update(0.0, &first, &scores, CAMERA).unwrap();
+        let (second, scores) = person([2.02, 0.0, 1.0], 2.6, false);
+        let obs = track.update(0.04, &second, &scores, CAMERA).unwrap();
         assert_eq!(obs.estimate, Estimate::Shoulders);
         let pose = obs.pose.unwrap();
-        assert!((pose[AZIMUTH] - 2.6).abs() < 1e-9);
-        // The learned centre, behind the surface as every centre is.
-        let want = track.config().behind_surface([2.02, 0.0, 1.0], CAMERA);
+        // The shoulders' midpoint plus where the centre sat from it in the first frame, both
+        // from the joint centres behind the surface; the azimuth is their line's.
+        let centres = |mut joints: Joints| {
+            track.config().behind_surface(&mut joints, CAMERA);
+            let shoulders = midpoint(joints[LEFT_SHOULDER], joints[RIGHT_SHOULDER]);
+            let hips = midpoint(joints[LEFT_HIP], joints[RIGHT_HIP]);
+            let line = sub(joints[LEFT_SHOULDER], joints[RIGHT_SHOULDER]);
+            (
+                shoulders,
+                midpoint(shoulders, hips),
+                (-line[0]).atan2(line[1]),
+            )
+        };
+        // The second frame's joints as the track worked with them: the gate holds the first
+        // frame's hips over (they weigh nothing without a score, but they are there).
+        let ((shoulders, centre, _), (now, _, azimuth)) = (centres(first), centres(obs.joints));
+        assert!(angle_error(pose[AZIMUTH], azimuth) < 1e-9 && angle_error(azimuth, 2.6) < 0.01);
+        let want = add(now, sub(centre, shoulders));
         for (got, want) in pose[..3].iter().zip(want) {
             assert!((got - want).abs() < 1e-9);
         }
     }
 
     #[test]
-    fn the_centre_lies_surface_depth_behind_the_joints_along_the_camera_ray() {
+    fn the_plane_is_fitted_through_the_joint_centres_behind_the_surface() {
         let (joints, scores) = person([3.0, 1.0, 1.0], PI, true);
-        let centre_of = |surface_depth: f64| {
-            let config = PersonConfig {
-                surface_depth,
-                ..PersonConfig::default()
-            };
-            let obs = Person::new(config)
-                .unwrap()
-                .update(0.0, &joints, &scores, CAMERA)
-                .unwrap();
-            let pose = obs.pose.unwrap();
-            [pose[0], pose[1], pose[2]]
+        let depths = [0.06, 0.09];
+        let config = PersonConfig {
+            surface_depth: depths,
+            ..PersonConfig::default()
         };
-        let (on, behind) = (centre_of(0.0), centre_of(0.1));
-        let ray = sub(on, CAMERA);
-        let moved = sub(behind, on);
-        assert!((norm(moved) - 0.1).abs() < 1e-9);
-        assert!((dot(moved, ray) / (norm(moved) * norm(ray)) - 1.0).abs() < 1e-9);
+        let pose = Person::new(config)
+            .unwrap()
+            .update(0.0, &joints, &scores, CAMERA)
+            .unwrap()
+            .pose
+            .unwrap();
+        // By hand: each torso joint moved away from the camera along the ray to the four's
+        // mean, the shoulders by the first depth and the hips by the second; the plane through
+        // those.
+        let seen = TORSO.map(|i| joints[i]);
+        let mean = seen
+            .iter()
+            .fold([0.0; 3], |m, p| add(m, p.map(|v| v / 4.0)));
+        let ray = sub(mean, CAMERA);
+        let along = ray.map(|v| v / norm(ray));
+        let moved: [[f64; 3]; 4] =
+            std::array::from_fn(|k| add(seen[k], along.map(|v| v * depths[k / 2])));
+        let plane = fit_torso_plane(&moved, &TORSO_SIDES, None).unwrap();
+        for (got, want) in pose[..3].iter().zip(plane.centre) {
+            assert!((got - want).abs() < 1e-9);
+        }
+        assert!(angle_error(pose[AZIMUTH], plane.azimuth) < 1e-9);
+        assert!((pose[ELEVATION] - plane.elevation).abs() < 1e-9);
+        // Facing the camera, the hips moved back further than the shoulders lean the plane's
+        // top towards it: the chest's normal points down (on the surface it was level).
+        assert!(plane.elevation > FRAC_PI_2 + 1e-3);
     }
 
     #[test]
@@ -716,7 +751,7 @@ mod tests {
         // The default holds a joint over ten frames and at most 0.4 s (ten frames at 25 Hz):
         // 4 frames at 10 frames per second, 6 at 15, 10 at 25 and at 30.
         for (rate, held) in [(10.0, 4), (15.0, 6), (25.0, 10), (30.0, 10)] {
-            let mut track = Person::new(PersonConfig::default()).unwrap();
+            let mut track = Person::new(centres_given()).unwrap();
             let (joints, scores) = person([3.0, 0.0, 1.0], PI, true);
             let mut statuses = Vec::new();
             for k in 0..20 {
@@ -747,7 +782,7 @@ mod tests {
                 threshold: 0.04,
                 max_replacements: 10,
             },
-            ..PersonConfig::default()
+            ..centres_given()
         };
         let mut track = Person::new(config).unwrap();
         for k in 0..60 {
@@ -772,7 +807,7 @@ mod tests {
 
     #[test]
     fn frames_faster_than_the_grid_are_skipped_and_gaps_filled() {
-        let mut track = Person::new(PersonConfig::default()).unwrap();
+        let mut track = Person::new(centres_given()).unwrap();
         let (joints, scores) = person([2.0, 0.0, 1.0], 3.0, true);
         let grids: Vec<GridReport> = [0.0, 1.0 / 30.0, 2.0 / 30.0, 0.1, 4.0 / 30.0, 0.28]
             .iter()
@@ -794,7 +829,7 @@ mod tests {
         // must then be skipped, not refused after the track has changed.
         let (joints, scores) = person([2.0, 0.0, 1.0], 3.0, true);
         for fps in [10.0, 15.0, 20.0, 24.0, 30.0, 50.0, 60.0] {
-            let mut track = Person::new(PersonConfig::default()).unwrap();
+            let mut track = Person::new(centres_given()).unwrap();
             for k in 0..600 {
                 let t = k as f64 / fps;
                 track.update(t, &joints, &scores, CAMERA).unwrap();
@@ -804,7 +839,7 @@ mod tests {
 
     #[test]
     fn bad_frames_are_refused_and_leave_the_track_alone() {
-        let mut track = Person::new(PersonConfig::default()).unwrap();
+        let mut track = Person::new(centres_given()).unwrap();
         let (joints, scores) = person([2.0, 0.0, 1.0], 3.0, true);
         track.update(0.0, &joints, &scores, CAMERA).unwrap();
         let before = track.clone();
@@ -820,7 +855,7 @@ mod tests {
         assert_eq!(format!("{track:?}"), format!("{before:?}"));
         assert_eq!(track.forecaster().len(), 1);
         // No torso seen yet: no pose, nothing for the forecaster, so no forecast.
-        let mut fresh = Person::new(PersonConfig::default()).unwrap();
+        let mut fresh = Person::new(centres_given()).unwrap();
         let obs = fresh
             .update(0.0, &[[f64::NAN; 3]; N_JOINTS], &[0.9; N_JOINTS], CAMERA)
             .unwrap();
@@ -831,7 +866,7 @@ mod tests {
                 memory: 0.0,
                 ..FacingConfig::default()
             },
-            ..PersonConfig::default()
+            ..centres_given()
         };
         assert!(Person::new(bad).is_err());
     }
@@ -852,7 +887,7 @@ mod tests {
         let run = |occlusion_ratio: f64| {
             let config = PersonConfig {
                 occlusion_ratio,
-                ..PersonConfig::default()
+                ..centres_given()
             };
             let mut track = Person::new(config).unwrap();
             let mut worst: f64 = 0.0;
@@ -908,7 +943,7 @@ mod tests {
         joints[RIGHT_SHOULDER][0] -= 1.5;
         let mut probe = joints;
         assert_eq!(drop_stray(&mut probe, CAMERA), [false, true, false, false]);
-        let obs = Person::new(PersonConfig::default())
+        let obs = Person::new(centres_given())
             .unwrap()
             .update(0.0, &joints, &scores, CAMERA)
             .unwrap();
@@ -933,7 +968,7 @@ mod tests {
 
     #[test]
     fn a_nan_score_makes_its_keypoint_missing_and_a_score_out_of_range_is_refused() {
-        let mut track = Person::new(PersonConfig::default()).unwrap();
+        let mut track = Person::new(centres_given()).unwrap();
         let (joints, mut scores) = person([2.0, 0.0, 1.0], 3.0, true);
         scores[LEFT_HIP] = f64::NAN;
         let obs = track.update(0.0, &joints, &scores, CAMERA).unwrap();
