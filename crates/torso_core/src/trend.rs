@@ -154,33 +154,40 @@ mod tests {
         f
     }
 
-    #[test]
-    fn the_line_matches_the_closed_form_and_its_significance_the_ordinary_standard_error() {
-        // y = 0.3 t plus +-0.01 alternating: slope and its standard error by the textbook
-        // formulas of simple regression, computed here on the sample index.
-        let ys: Vec<f64> = (0..30)
-            .map(|k| 0.3 * k as f64 / 25.0 + if k % 2 == 0 { 0.01 } else { -0.01 })
-            .collect();
-        let f = history(ys.iter().map(|&y| [0.0, 0.0, 0.0, y, 1.5]));
-        let trend = Trend::of(&f);
+    /// Simple regression of `ys` on the sample index by the textbook formulas: the slope per
+    /// sample, its ordinary t (slope over standard error), and the residuals' lag-one
+    /// autocorrelation.
+    fn by_hand(ys: &[f64]) -> (f64, f64, f64) {
         let n = ys.len() as f64;
         let xs: Vec<f64> = (0..ys.len()).map(|k| k as f64).collect();
         let (mx, my) = (xs.iter().sum::<f64>() / n, ys.iter().sum::<f64>() / n);
         let sxx: f64 = xs.iter().map(|x| (x - mx).powi(2)).sum();
         let b = xs
             .iter()
-            .zip(&ys)
+            .zip(ys)
             .map(|(x, y)| (x - mx) * (y - my))
             .sum::<f64>()
             / sxx;
-        let sse: f64 = xs
+        let r: Vec<f64> = xs
             .iter()
-            .zip(&ys)
-            .map(|(x, y)| (y - my - b * (x - mx)).powi(2))
-            .sum();
-        let se = (sse / (n - 2.0) / sxx).sqrt();
+            .zip(ys)
+            .map(|(x, y)| y - my - b * (x - mx))
+            .collect();
+        let sse: f64 = r.iter().map(|v| v * v).sum();
+        let rho = r.windows(2).map(|w| w[0] * w[1]).sum::<f64>() / sse;
+        (b, b / (sse / (n - 2.0) / sxx).sqrt(), rho)
+    }
+
+    #[test]
+    fn the_line_matches_the_closed_form_and_its_significance_the_ordinary_standard_error() {
+        // y = 0.3 t plus +-0.01 alternating, on the azimuth.
+        let ys: Vec<f64> = (0..30)
+            .map(|k| 0.3 * k as f64 / 25.0 + if k % 2 == 0 { 0.01 } else { -0.01 })
+            .collect();
+        let trend = Trend::of(&history(ys.iter().map(|&y| [0.0, 0.0, 0.0, y, 1.5])));
+        let (b, t, _) = by_hand(&ys);
         assert!((trend.rate[3] - b * 25.0).abs() < 1e-12);
-        assert!((trend.significance[3] - b / se).abs() < 1e-9 * (b / se));
+        assert!((trend.significance[3] - t).abs() < 1e-9 * t);
         assert_eq!((trend.rate[0], trend.significance[0]), (0.0, 0.0));
         // A level that is not a binary fraction: no motion, whatever the rounding.
         let level = history((0..37).map(|_| [0.3, 1.1, 0.7, 2.9, 1.3]));
@@ -189,32 +196,11 @@ mod tests {
 
     #[test]
     fn the_centres_standard_error_allows_for_correlated_residuals() {
-        // Ordinary regression by hand: slope, residuals, standard error, lag-one correlation.
-        fn by_hand(ys: &[f64]) -> (f64, f64) {
-            let n = ys.len() as f64;
-            let xs: Vec<f64> = (0..ys.len()).map(|k| k as f64).collect();
-            let (mx, my) = (xs.iter().sum::<f64>() / n, ys.iter().sum::<f64>() / n);
-            let sxx: f64 = xs.iter().map(|x| (x - mx).powi(2)).sum();
-            let b = xs
-                .iter()
-                .zip(ys)
-                .map(|(x, y)| (x - mx) * (y - my))
-                .sum::<f64>()
-                / sxx;
-            let r: Vec<f64> = xs
-                .iter()
-                .zip(ys)
-                .map(|(x, y)| y - my - b * (x - mx))
-                .collect();
-            let sse: f64 = r.iter().map(|v| v * v).sum();
-            let rho = r.windows(2).map(|w| w[0] * w[1]).sum::<f64>() / sse;
-            (b / (sse / (n - 2.0) / sxx).sqrt(), rho)
-        }
         // Alternating noise on a walk: negative correlation counts as none, the ordinary error.
         let walk: Vec<f64> = (0..30)
             .map(|k| 0.04 * k as f64 + if k % 2 == 0 { 0.01 } else { -0.01 })
             .collect();
-        let (t, rho) = by_hand(&walk);
+        let (_, t, rho) = by_hand(&walk);
         let trend = Trend::of(&history(walk.iter().map(|&x| [x, 0.0, 1.0, 0.0, 1.5])));
         assert!(rho < 0.0 && (trend.significance[0] - t).abs() < 1e-9 * t);
         assert!(trend.steady()[0]);
@@ -223,7 +209,7 @@ mod tests {
         let step: Vec<f64> = (0..50)
             .map(|k| (if k < 25 { 0.0 } else { 0.5 }) + if k % 2 == 0 { 0.003 } else { -0.003 })
             .collect();
-        let (t, rho) = by_hand(&step);
+        let (_, t, rho) = by_hand(&step);
         let trend = Trend::of(&history(step.iter().map(|&y| [0.0, y, 1.0, 0.0, 1.5])));
         let corrected = t / ((1.0 + rho) / (1.0 - rho)).sqrt();
         assert!(rho > 0.5 && (trend.significance[1] - corrected).abs() < 1e-9 * corrected);
