@@ -22,8 +22,8 @@ pub const STEADY: f64 = 10.0;
 /// scenes benchmark's development split (both draws; docs/benchmark.md).
 pub const STEADY_CENTRE: f64 = 5.0;
 
-/// Largest lag-one autocorrelation of the residuals taken at its value: near one, the
-/// variance factor `(1 + ρ) / (1 - ρ)` of a mean of correlated residuals grows without bound.
+/// The residuals' lag-one autocorrelation is taken at most this: near one, the variance factor
+/// `(1 + ρ) / (1 - ρ)` of a mean of correlated residuals grows without bound.
 const MAX_CORRELATION: f64 = 0.99;
 
 /// Samples a history needs before its line is fitted (two give a line with no residual).

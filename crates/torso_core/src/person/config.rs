@@ -38,7 +38,8 @@ pub struct PersonConfig {
     /// sees, in front of the joint centres a torso pose is defined by, so the plane is fitted
     /// to the torso joints moved back this far ([`behind_surface`](Self::behind_surface)); 0 for
     /// joints that are joint centres already (mocap, a skeleton tracker's). The hips lie deeper
-    /// than the shoulders: moved back alike, the plane would lean towards the camera's side.
+    /// behind their surface than the shoulders, so a plane through the surface points leans its
+    /// top away from the camera: each pair has its own depth.
     /// The defaults are the medians of those offsets for the measured (not completed) joints
     /// on the scenes benchmark's development split (docs/benchmark.md), about the body's radius
     /// at the shoulder and the hip.
