@@ -22,6 +22,13 @@ pub const STEADY: f64 = 10.0;
 /// scenes benchmark's development split (both draws; docs/benchmark.md).
 pub const STEADY_CENTRE: f64 = 5.0;
 
+/// Slowest horizontal speed (m/s) of a steady walk. A slower line through the centre's history,
+/// however significant, is more often the estimate drifting (a person turning on the spot,
+/// seen from another side, or shuffling) than a walk, and continued it lost to holding still
+/// on the scenes benchmark's development split (both draws; docs/benchmark.md); people walk at
+/// well over half a metre a second.
+pub const MIN_WALK_SPEED: f64 = 0.2;
+
 /// The residuals' lag-one autocorrelation is taken at most this: near one, the variance factor
 /// `(1 + ρ) / (1 - ρ)` of a mean of correlated residuals grows without bound.
 const MAX_CORRELATION: f64 = 0.99;
@@ -131,12 +138,13 @@ impl Trend {
     }
 
     /// Per component, whether it moves steadily: its rate [`STEADY_CENTRE`] (centre) or
-    /// [`STEADY`] (angles) standard errors from zero (for the azimuth, with no flip in the
-    /// history).
+    /// [`STEADY`] (angles) standard errors from zero; for the centre, at a walk's pace
+    /// ([`MIN_WALK_SPEED`] over the ground), and for the azimuth, with no flip in the history.
     pub fn steady(&self) -> [bool; 5] {
-        std::array::from_fn(|c| {
-            let bar = if c < 3 { STEADY_CENTRE } else { STEADY };
-            self.significance[c] >= bar && !(c == AZIMUTH && self.flipped)
+        let walking = self.rate[0].hypot(self.rate[1]) >= MIN_WALK_SPEED;
+        std::array::from_fn(|c| match c {
+            0..=2 => self.significance[c] >= STEADY_CENTRE && walking,
+            _ => self.significance[c] >= STEADY && !(c == AZIMUTH && self.flipped),
         })
     }
 }
@@ -203,7 +211,12 @@ mod tests {
         let (_, t, rho) = by_hand(&walk);
         let trend = Trend::of(&history(walk.iter().map(|&x| [x, 0.0, 1.0, 0.0, 1.5])));
         assert!(rho < 0.0 && (trend.significance[0] - t).abs() < 1e-9 * t);
-        assert!(trend.steady()[0]);
+        assert!(trend.steady()[0]); // 1 m/s
+                                    // The same line at a tenth of the pace: as significant, but no walk.
+        let drift = Trend::of(&history(
+            walk.iter().map(|&x| [0.1 * x, 0.0, 1.0, 0.0, 1.5]),
+        ));
+        assert!(drift.significance[0] > STEADY_CENTRE && !drift.steady()[0]);
         // A step: standing, then half a metre on, standing again. A line fits it with residuals
         // that run one way for a third of the history at a time: far fewer independent ones.
         let step: Vec<f64> = (0..50)
