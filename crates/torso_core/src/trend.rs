@@ -49,80 +49,12 @@ pub struct Trend {
     /// The angles' is the ordinary one: a turning person's rate changes smoothly, and so
     /// corrected the steady turns were missed (docs/benchmark.md).
     pub significance: Pose,
-    /// Seconds of history the azimuth's line was fitted to (samples over the grid rate): the
-    /// whole history, or the part since its last front/back flip.
+    /// Seconds of history the line was fitted to (samples over the grid rate).
     pub seen: f64,
-    /// The azimuth stepped by more than a quarter turn between two samples (a front/back flip
-    /// of the estimate: no one turns that fast in a grid step) too recently for a line through
-    /// the samples since: no steady turn. Before the flip the line is not fitted; the step
-    /// would be taken for a turn.
+    /// The azimuth steps by more than a quarter turn between two samples somewhere in the
+    /// history: a front/back flip of the estimate (no one turns that fast in a grid step), whose
+    /// step a line would take for a turn.
     pub flipped: bool,
-}
-
-/// The least-squares line of one component against the sample index over `from..to`.
-#[derive(Clone, Copy, Debug)]
-struct Line {
-    from: usize,
-    samples: usize,
-    /// Change per sample.
-    slope: f64,
-    mean: f64,
-    /// Σ dt² about the span's centre.
-    stt: f64,
-    /// Residual sum of squares.
-    residual: f64,
-}
-
-impl Line {
-    /// One pass, on the sample index centred at zero (so that Σ dt = 0): the slope is
-    /// Σ dt·y / Σ dt², the residual sum of squares Σ (y - ȳ)² - slope² Σ dt².
-    fn through(y: impl Fn(usize) -> f64, from: usize, to: usize) -> Self {
-        let m = to - from;
-        let centre = (from + to - 1) as f64 / 2.0;
-        let stt = m as f64 * ((m * m) as f64 - 1.0) / 12.0;
-        let (mut sum, mut sty, mut syy) = (0.0, 0.0, 0.0);
-        for i in from..to {
-            let v = y(i);
-            sum += v;
-            sty += (i as f64 - centre) * v;
-            syy += v * v;
-        }
-        // Too few samples for a line (the azimuth's, just after a flip): no rate.
-        let slope = if m >= MIN_SAMPLES { sty / stt } else { 0.0 };
-        Self {
-            from,
-            samples: m,
-            slope,
-            mean: sum / m as f64,
-            stt,
-            residual: (syy - sum * sum / m as f64 - slope * slope * stt).max(0.0),
-        }
-    }
-
-    /// `√((1 + ρ) / (1 - ρ))`, ρ the residuals' lag-one autocorrelation (from 0 up to
-    /// [`MAX_CORRELATION`]): the standard error's factor for correlated residuals.
-    fn correlation_factor(&self, y: impl Fn(usize) -> f64) -> f64 {
-        if !(self.residual > 0.0) {
-            return 1.0;
-        }
-        let centre = (2 * self.from + self.samples - 1) as f64 / 2.0;
-        let residual = |i: usize| y(i) - self.mean - self.slope * (i as f64 - centre);
-        let lagged: f64 = (self.from + 1..self.from + self.samples)
-            .map(|i| residual(i) * residual(i - 1))
-            .sum();
-        let rho = (lagged / self.residual).clamp(0.0, MAX_CORRELATION);
-        ((1.0 + rho) / (1.0 - rho)).sqrt()
-    }
-
-    /// The slope in standard errors (times `inflation`); zero where the span changes within
-    /// rounding of its values (no motion).
-    fn significance(&self, inflation: f64) -> f64 {
-        if self.slope.abs() * self.samples as f64 <= 1e-12 * (1.0 + self.mean.abs()) {
-            return 0.0;
-        }
-        let error = inflation * (self.residual / (self.samples - 2) as f64 / self.stt).sqrt();
-        self.slope.abs() / error
-    }
 }
 
 impl Trend {
@@ -146,36 +78,61 @@ impl Trend {
             return Self::default();
         }
         let sample = |i: usize| f.sample(i).expect("within the history").0;
-        // The azimuth's line starts after the history's last flip: the step would be taken for
-        // a turn, and what came before it was often a run of bad planes.
-        let mut since_flip = 0;
-        for i in 1..n {
-            if (sample(i)[AZIMUTH] - sample(i - 1)[AZIMUTH]).abs() > FRAC_PI_2 {
-                since_flip = i;
+        // One pass, on the sample index centred at zero (so that Σ dt = 0): the line's slope is
+        // Σ dt·y / Σ dt², its residual sum of squares Σ (y - ȳ)² - slope² Σ dt².
+        let centre = (n - 1) as f64 / 2.0;
+        let stt = n as f64 * ((n * n) as f64 - 1.0) / 12.0;
+        let (mut sum, mut sty, mut syy) = ([0.0; 5], [0.0; 5], [0.0; 5]);
+        let mut flipped = false;
+        let mut previous = sample(0)[AZIMUTH];
+        for i in 0..n {
+            let (dt, p) = (i as f64 - centre, sample(i));
+            for c in 0..5 {
+                sum[c] += p[c];
+                sty[c] += dt * p[c];
+                syy[c] += p[c] * p[c];
+            }
+            flipped |= (p[AZIMUTH] - previous).abs() > FRAC_PI_2;
+            previous = p[AZIMUTH];
+        }
+        let slope: Pose = std::array::from_fn(|c| sty[c] / stt);
+        let residual: Pose = std::array::from_fn(|c| {
+            (syy[c] - sum[c] * sum[c] / n as f64 - slope[c] * slope[c] * stt).max(0.0)
+        });
+        // Second pass: the lag-one products of the residuals about the line.
+        let mean: Pose = std::array::from_fn(|c| sum[c] / n as f64);
+        let (mut lagged, mut previous_residual) = ([0.0; 5], [0.0; 5]);
+        for i in 0..n {
+            let (dt, p) = (i as f64 - centre, sample(i));
+            for c in 0..3 {
+                let r = p[c] - mean[c] - slope[c] * dt;
+                if i > 0 {
+                    lagged[c] += r * previous_residual[c];
+                }
+                previous_residual[c] = r;
             }
         }
-        let flipped = n - since_flip < MIN_SAMPLES;
-        let lines: [Line; 5] = std::array::from_fn(|c| {
-            let from = if c == AZIMUTH { since_flip } else { 0 };
-            Line::through(|i| sample(i)[c], from, n)
+        let inflation: Pose = std::array::from_fn(|c| {
+            if c >= 3 || !(residual[c] > 0.0) {
+                return 1.0;
+            }
+            let rho = (lagged[c] / residual[c]).clamp(0.0, MAX_CORRELATION);
+            ((1.0 + rho) / (1.0 - rho)).sqrt()
         });
         let rate_hz = f.config().rate_hz;
         Self {
-            seen: lines[AZIMUTH].samples as f64 / rate_hz,
+            seen: n as f64 / rate_hz,
             flipped,
-            rate: lines.map(|l| l.slope * rate_hz),
+            rate: slope.map(|s| s * rate_hz),
             significance: std::array::from_fn(|c| {
-                let line = &lines[c];
-                if line.samples < MIN_SAMPLES {
-                    return 0.0;
-                }
-                // The centre's residuals are correlated: fewer independent ones.
-                let inflation = if c < 3 {
-                    line.correlation_factor(|i| sample(i)[c])
+                let error = inflation[c] * (residual[c] / (n - 2) as f64 / stt).sqrt();
+                // A change over the history within rounding of the values is no motion.
+                let level = (sum[c] / n as f64).abs();
+                if slope[c].abs() * n as f64 <= 1e-12 * (1.0 + level) {
+                    0.0
                 } else {
-                    1.0
-                };
-                line.significance(inflation)
+                    slope[c].abs() / error
+                }
             }),
         }
     }
@@ -279,30 +236,10 @@ mod tests {
     fn noise_about_a_level_is_no_steady_turn_and_a_short_history_no_line() {
         let wander = history((0..50).map(|k| [0.0, 0.0, 0.0, 0.2 * (k as f64 * 0.7).sin(), 1.5]));
         assert_eq!(Trend::of(&wander).steady(), [false; 5]);
-        // A flip of the estimate halfway, standing still on either side: the line through the
-        // whole history would be steep and significant; the one since the flip is level.
+        // A flip of the estimate halfway: a steep, significant line, but no turn.
         let flip = history((0..50).map(|k| [0.0, 0.0, 0.0, if k < 25 { 0.0 } else { 3.1 }, 1.5]));
         let trend = Trend::of(&flip);
-        assert!(!trend.flipped && trend.significance[AZIMUTH] == 0.0);
-        assert!(trend.rate[AZIMUTH].abs() < 1e-12);
-        assert!(!trend.steady()[AZIMUTH] && (trend.seen - 1.0).abs() < 1e-12);
-        // A steady turn with a flip in it: the turn since the flip, over the second it lasted.
-        let turn = |k: usize| 0.02 * k as f64 + if (20..30).contains(&k) { 3.1 } else { 0.0 };
-        let trend = Trend::of(&history((0..50).map(|k| [0.0, 0.0, 0.0, turn(k), 1.5])));
-        assert!(trend.steady()[AZIMUTH] && (trend.rate[AZIMUTH] - 0.5).abs() < 1e-9);
-        assert!((trend.seen - 20.0 / 25.0).abs() < 1e-12);
-        // A flip two samples ago: too few since for a line, no turn and no rate.
-        let late = history((0..50).map(|k| {
-            [
-                0.0,
-                0.0,
-                0.0,
-                0.02 * k as f64 + if k >= 48 { 3.1 } else { 0.0 },
-                1.5,
-            ]
-        }));
-        let trend = Trend::of(&late);
-        assert!(trend.flipped && !trend.steady()[AZIMUTH] && trend.rate[AZIMUTH] == 0.0);
+        assert!(trend.significance[AZIMUTH] > STEADY && trend.flipped && !trend.steady()[AZIMUTH]);
         let short = history((0..3).map(|k| [0.0, 0.0, 0.0, k as f64, 1.5]));
         assert_eq!(Trend::of(&short), Trend::default());
     }
