@@ -127,8 +127,7 @@ impl Trend {
             significance: std::array::from_fn(|c| {
                 let error = inflation[c] * (residual[c] / (n - 2) as f64 / stt).sqrt();
                 // A change over the history within rounding of the values is no motion.
-                let level = (sum[c] / n as f64).abs();
-                if slope[c].abs() * n as f64 <= 1e-12 * (1.0 + level) {
+                if slope[c].abs() * n as f64 <= 1e-12 * (1.0 + mean[c].abs()) {
                     0.0
                 } else {
                     slope[c].abs() / error

@@ -1,10 +1,11 @@
 //! What a track is configured with.
 
-use crate::coco::{Joints, N_JOINTS};
+use crate::coco::{Joints, N_JOINTS, TORSO};
 use crate::error::{Error, Result};
 use crate::forecaster::ForecasterConfig;
 use crate::gating::{GateConfig, JointGate};
 use crate::sides::FacingConfig;
+use crate::vec3::{add, finite, norm, sub};
 
 /// Per-person parameters.
 ///
@@ -138,19 +139,19 @@ impl PersonConfig {
     /// ```
     pub fn behind_surface(&self, joints: &mut Joints, camera: [f64; 3]) {
         let (mut sum, mut n) = ([0.0; 3], 0.0);
-        for &j in crate::coco::TORSO.iter() {
-            if crate::vec3::finite(&joints[j]) {
-                sum = crate::vec3::add(sum, joints[j]);
+        for &j in TORSO.iter() {
+            if finite(&joints[j]) {
+                sum = add(sum, joints[j]);
                 n += 1.0;
             }
         }
-        let ray = crate::vec3::sub(sum.map(|v| v / n), camera);
-        let range = crate::vec3::norm(ray);
+        let ray = sub(sum.map(|v| v / n), camera);
+        let range = norm(ray);
         if !(n > 0.0 && range > 0.0 && range.is_finite()) {
             return;
         }
         let along = ray.map(|v| v / range);
-        for (k, &j) in crate::coco::TORSO.iter().enumerate() {
+        for (k, &j) in TORSO.iter().enumerate() {
             let depth = self.surface_depth[k / 2];
             joints[j] = std::array::from_fn(|i| joints[j][i] + depth * along[i]);
         }
