@@ -12,8 +12,40 @@ from .yolo import YoloPose
 FAMILIES = ("yolo-pose", "movenet")
 
 
+#: Operators of an 8-bit quantized ONNX graph (QDQ or operator-oriented).
+INT8_OPERATORS = (b"QuantizeLinear", b"QLinearConv", b"QLinearMatMul", b"ConvInteger", b"MatMulInteger")
+#: CPU flags (Linux's /proc/cpuinfo) of the 8-bit dot products onnxruntime's int8 kernels use:
+#: x86 VNNI (AVX-512 or AVX) and Arm's dot product.
+INT8_DOT_PRODUCT_FLAGS = frozenset({"avx512_vnni", "avx_vnni", "asimddp"})
+
+
+def int8_dot_product() -> bool:
+    """Whether this CPU has 8-bit dot-product instructions, or may have (``True`` where
+    /proc/cpuinfo cannot be read)."""
+    try:
+        flags = set(Path("/proc/cpuinfo").read_text().split())
+    except OSError:
+        return True
+    if not flags & {"avx2", "asimd"}:
+        return True  # neither x86 with AVX2 nor Arm: onnxruntime takes other kernels
+    return bool(flags & INT8_DOT_PRODUCT_FLAGS)
+
+
+def quantized(path: Path) -> bool:
+    """Whether the ONNX file holds an 8-bit quantized graph (its operator names are stored as
+    plain strings)."""
+    data = path.read_bytes()
+    return any(op in data for op in INT8_OPERATORS)
+
+
 def session(path: str | Path, device: str = "cpu"):  # type: ignore[no-untyped-def]
-    """An onnxruntime session on the CPU, or on CUDA when asked for and available."""
+    """An onnxruntime session on the CPU, or on CUDA when asked for and available.
+
+    An 8-bit quantized model on a CPU without 8-bit dot products (x86 with AVX2 alone) runs
+    with onnxruntime's basic graph optimisations only: its fused int8 convolutions would use
+    AVX2's VPMADDUBSW, whose 16-bit intermediate sums saturate, and the bundled MoveNet then
+    places keypoints measurably worse (README: the turntable table). Unfused, the quantized
+    weights are dequantised once and the convolutions run in float, about twice as slow."""
     import onnxruntime as ort
 
     path = Path(path)
@@ -32,6 +64,8 @@ def session(path: str | Path, device: str = "cpu"):  # type: ignore[no-untyped-d
         raise ValueError(f"device must be 'cpu' or 'cuda', got {device!r}")
     options = ort.SessionOptions()
     options.log_severity_level = 3  # the int8 MoveNet file warns about unused initialisers
+    if device == "cpu" and quantized(path) and not int8_dot_product():
+        options.graph_optimization_level = ort.GraphOptimizationLevel.ORT_ENABLE_BASIC
     try:
         return ort.InferenceSession(str(path), options, providers=providers)
     except Exception as e:  # onnxruntime's errors share no base class of their own
