@@ -135,7 +135,7 @@ pub struct Decision {
     /// The evidence is more than the labels alone can build at this frame rate (about
     /// [`FacingConfig::memory`] seconds' worth, approached and never passed): a cue other
     /// than the labels (the face, the knees, the walking direction) has agreed recently; and
-    /// the heading lies within [`MAX_CONFIDENT_TURN`] of the recent heading.
+    /// the heading lies within 45 degrees (`MAX_CONFIDENT_TURN`) of the recent heading.
     pub confident: bool,
 }
 
@@ -166,8 +166,8 @@ pub struct Facing {
 
 impl Facing {
     /// Whether a torso plane with normal azimuth `azimuth` has the chest on the other side of
-    /// the track's heading (its last decision's): the plane's line lies within
-    /// [`MAX_CONFIDENT_TURN`] of the heading's (the same line, not one across it) and its
+    /// the track's heading (its last decision's): the plane's line lies within 45 degrees
+    /// (`MAX_CONFIDENT_TURN`) of the heading's (the same line, not one across it) and its
     /// normal points away from the heading. The plane a track reports is fitted after the gate,
     /// and the gate's replaced joints (earlier positions) can put its sides the other way
     /// round, in a frame the track decided on as in one whose joints allowed no decision; the
