@@ -14,21 +14,20 @@ FAMILIES = ("yolo-pose", "movenet")
 
 #: Operators of an 8-bit quantized ONNX graph (QDQ or operator-oriented).
 INT8_OPERATORS = (b"QuantizeLinear", b"QLinearConv", b"QLinearMatMul", b"ConvInteger", b"MatMulInteger")
-#: CPU flags (Linux's /proc/cpuinfo) of the 8-bit dot products onnxruntime's int8 kernels use:
-#: x86 VNNI (AVX-512 or AVX) and Arm's dot product.
-INT8_DOT_PRODUCT_FLAGS = frozenset({"avx512_vnni", "avx_vnni", "asimddp"})
+#: CPU flags (Linux's /proc/cpuinfo) of the x86 8-bit dot products (VNNI, AVX-512 or AVX) that
+#: onnxruntime's int8 kernels use in place of AVX2's saturating VPMADDUBSW.
+INT8_DOT_PRODUCT_FLAGS = frozenset({"avx512_vnni", "avx_vnni"})
 
 
 def int8_dot_product() -> bool:
-    """Whether this CPU has 8-bit dot-product instructions, or may have (``True`` where
-    /proc/cpuinfo cannot be read)."""
+    """Whether this CPU is free of the AVX2 int8 saturation: an x86 CPU with VNNI, or one that
+    is not x86 with AVX2 (onnxruntime takes other kernels there; not measured here), or one
+    whose /proc/cpuinfo cannot be read."""
     try:
         flags = set(Path("/proc/cpuinfo").read_text().split())
     except OSError:
         return True
-    if not flags & {"avx2", "asimd"}:
-        return True  # neither x86 with AVX2 nor Arm: onnxruntime takes other kernels
-    return bool(flags & INT8_DOT_PRODUCT_FLAGS)
+    return "avx2" not in flags or bool(flags & INT8_DOT_PRODUCT_FLAGS)
 
 
 def quantized(path: Path) -> bool:
@@ -41,11 +40,11 @@ def quantized(path: Path) -> bool:
 def session(path: str | Path, device: str = "cpu"):  # type: ignore[no-untyped-def]
     """An onnxruntime session on the CPU, or on CUDA when asked for and available.
 
-    An 8-bit quantized model on a CPU without 8-bit dot products (x86 with AVX2 alone) runs
-    with onnxruntime's basic graph optimisations only: its fused int8 convolutions would use
+    An 8-bit quantized model on an x86 CPU with AVX2 and no VNNI runs with onnxruntime's
+    basic graph optimisations only: its fused int8 convolutions would use
     AVX2's VPMADDUBSW, whose 16-bit intermediate sums saturate, and the bundled MoveNet then
     places keypoints measurably worse (README: the turntable table). Unfused, the quantized
-    weights are dequantised once and the convolutions run in float, about twice as slow."""
+    weights are dequantised once and the convolutions run in float, half as slow again."""
     import onnxruntime as ort
 
     path = Path(path)
