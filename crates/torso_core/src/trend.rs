@@ -210,8 +210,8 @@ mod tests {
         let (_, t, rho) = by_hand(&walk);
         let trend = Trend::of(&history(walk.iter().map(|&x| [x, 0.0, 1.0, 0.0, 1.5])));
         assert!(rho < 0.0 && (trend.significance[0] - t).abs() < 1e-9 * t);
-        assert!(trend.steady()[0]); // 1 m/s
-                                    // The same line at a tenth of the pace: as significant, but no walk.
+        assert!(trend.steady()[0]);
+        // The same line (1 m/s) at a tenth of the pace: as significant, but no walk.
         let drift = Trend::of(&history(
             walk.iter().map(|&x| [0.1 * x, 0.0, 1.0, 0.0, 1.5]),
         ));

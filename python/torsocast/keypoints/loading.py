@@ -63,7 +63,8 @@ def session(path: str | Path, device: str = "cpu"):  # type: ignore[no-untyped-d
         raise ValueError(f"device must be 'cpu' or 'cuda', got {device!r}")
     options = ort.SessionOptions()
     options.log_severity_level = 3  # the int8 MoveNet file warns about unused initialisers
-    if device == "cpu" and quantized(path) and not int8_dot_product():
+    # The CPU first: elsewhere the model file need not be read twice.
+    if device == "cpu" and not int8_dot_product() and quantized(path):
         options.graph_optimization_level = ort.GraphOptimizationLevel.ORT_ENABLE_BASIC
     try:
         return ort.InferenceSession(str(path), options, providers=providers)
