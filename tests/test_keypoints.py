@@ -118,8 +118,10 @@ def test_an_int8_model_runs_unfused_only_on_a_cpu_without_int8_dot_products(monk
     assert level() == ort.GraphOptimizationLevel.ORT_ENABLE_ALL
 
 
-def test_a_float_model_is_not_taken_for_an_int8_one():
+def test_a_float_model_is_not_taken_for_an_int8_one(tmp_path):
     assert not loading.quantized(shared_path("models", "yolo11n-pose-320.onnx"))
+    with pytest.raises(FileNotFoundError, match="none.onnx"):
+        loading.quantized(tmp_path / "none.onnx")
 
 
 def test_family_is_recognised_from_the_model_and_checked():
