@@ -14,8 +14,10 @@
 //! Each component has a prior candidate, the one it forecasts with before any check: holding
 //! still, unless the track's history shows the component moving steadily: then constant
 //! velocity (a walk, a steady turn), for the azimuth only for horizons no longer than the
-//! history it was seen over (a walk mostly goes on; a turn is continued at most as far ahead as
-//! it has been seen to last); the elevation always holds still. A component's mix
+//! history it was seen over, or where continuing the turn has already beaten holding still
+//! significantly at a shorter checked horizon (a walk mostly goes on; a turn is continued
+//! further ahead than it has been seen to last only once the track's own forecasts have shown
+//! it going on); the elevation always holds still. A component's mix
 //! takes another candidate than its prior only when that one's gain over the prior (the
 //! difference of their squared errors) is significant: its mean [`SIGNIFICANCE`] standard
 //! errors above zero, counting the scores of one horizon's span as one (overlapping forecasts
@@ -130,7 +132,8 @@ impl SelfCheck {
                     continue;
                 }
                 p.pending[k] = false;
-                self.fresh[k] = false;
+                // A longer horizon's prior reads this one's scores (`turn_shown`).
+                self.fresh[k..].fill(false);
                 let decay =
                     self.last_scored[k].map_or(1.0, |last| (-(t - last).max(0.0) / MEMORY).exp());
                 self.last_scored[k] = Some(t);
@@ -185,11 +188,12 @@ impl SelfCheck {
     }
 
     /// Component `c`'s prior candidate for checked horizon `k` (see the module's description):
-    /// a walk mostly goes on, a turn is continued at most as far ahead as it has been seen.
+    /// a walk mostly goes on, a turn is continued further ahead than it has been seen only once
+    /// the track's forecasts have shown it going on.
     fn prior(&self, c: usize, k: usize) -> usize {
         let steady = match c {
             0..=2 => self.steady[c],
-            AZIMUTH => self.steady[c] && self.seen >= HORIZONS[k] - 1e-9,
+            AZIMUTH => self.steady[c] && (self.seen >= HORIZONS[k] - 1e-9 || self.turn_shown(k)),
             _ => false,
         };
         if steady {
@@ -199,10 +203,16 @@ impl SelfCheck {
         }
     }
 
+    /// Whether continuing the azimuth's line has beaten holding still, significantly, at a
+    /// checked horizon shorter than `k`: the track's own forecasts have shown its turn going on.
+    fn turn_shown(&self, k: usize) -> bool {
+        (0..k).any(|j| self.scored[j] >= MIN_SCORED && self.significant(j, AZIMUTH, VELOCITY, HOLD))
+    }
+
     /// Tells the check which components of the track's history move steadily
     /// ([`crate::trend`]) and how many seconds of history it holds: a steady component takes a
-    /// trend as its prior (a steady turn only for horizons up to that long), the others holding
-    /// still.
+    /// trend as its prior (a steady turn only for horizons up to that long, unless its forecasts
+    /// have shown it going on), the others holding still.
     pub fn set_steady(&mut self, steady: [bool; 5], seen: f64) {
         if steady != self.steady || seen != self.seen {
             self.steady = steady;
@@ -501,9 +511,39 @@ mod tests {
         assert_eq!(w[0], [0.0, 0.0, 0.0, 1.0]); // a walk: constant velocity
         assert_eq!(w[AZIMUTH], [0.0, 0.0, 0.0, 1.0]); // a steady turn too
         assert_eq!(w[ELEVATION], HOLD_ONLY); // a torso does not keep pitching
-                                             // Seen for a second: the walk is continued two seconds ahead, the turn not.
+
+        // Seen for a second: the walk is continued two seconds ahead, the turn not.
         let w = check.weights(2.0);
         assert_eq!((w[0], w[AZIMUTH]), ([0.0, 0.0, 0.0, 1.0], HOLD_ONLY));
+    }
+
+    #[test]
+    fn a_turn_is_continued_further_than_seen_once_its_forecasts_have_come_true() {
+        // Two young tracks whose azimuth history is a steady turn seen for 1.2 s. One turn goes
+        // on: continuing it came true 0.4 s ahead, holding erred by 0.2 rad. The other stopped
+        // as each forecast was made: continuing it erred by 0.2 rad, holding was right.
+        let (mut going, mut stopped) = (SelfCheck::new(25.0), SelfCheck::new(25.0));
+        for check in [&mut going, &mut stopped] {
+            check.set_steady([false, false, false, true, false], 1.2);
+        }
+        let at = |az: f64| [0.0, 0.0, 1.0, az, 1.5];
+        for k in 0..30 {
+            let t = k as f64 / 25.0;
+            let held = [at(0.5 * t); 3];
+            let velocity = HORIZONS.map(|h| at(0.5 * (t + h)));
+            going.record(t, at(0.5 * t), &held, &held, &velocity);
+            let held = [at(0.0); 3];
+            let velocity = HORIZONS.map(|h| at(0.5 * h));
+            stopped.record(t, at(0.0), &held, &held, &velocity);
+        }
+        // 2 s ahead (not yet checked, and longer than the turn has been seen): the turn whose
+        // forecasts came true is continued, the other held.
+        assert_eq!(going.weights(2.0)[AZIMUTH], [0.0, 0.0, 0.0, 1.0]);
+        assert_eq!(stopped.weights(2.0)[AZIMUTH], HOLD_ONLY);
+        // Before any forecast was scored, neither had shown anything: both held.
+        let mut young = SelfCheck::new(25.0);
+        young.set_steady([false, false, false, true, false], 1.2);
+        assert_eq!(young.weights(2.0)[AZIMUTH], HOLD_ONLY);
     }
 
     #[test]

@@ -136,6 +136,12 @@ impl Trend {
         }
     }
 
+    /// The constant-velocity prediction `horizon` seconds after `sample`: every component's
+    /// rate continued.
+    pub fn continued(&self, sample: &Pose, horizon: f64) -> Pose {
+        std::array::from_fn(|c| sample[c] + self.rate[c] * horizon)
+    }
+
     /// Per component, whether it moves steadily: its rate [`STEADY_CENTRE`] (centre) or
     /// [`STEADY`] (angles) standard errors from zero; for the centre, at a walk's pace
     /// ([`MIN_WALK_SPEED`] over the ground), and for the azimuth, with no flip in the history.
@@ -196,6 +202,8 @@ mod tests {
         assert!((trend.rate[3] - b * 25.0).abs() < 1e-12);
         assert!((trend.significance[3] - t).abs() < 1e-9 * t);
         assert_eq!((trend.rate[0], trend.significance[0]), (0.0, 0.0));
+        let ahead = trend.continued(&[1.0, 2.0, 3.0, 0.5, 1.5], 2.0);
+        assert_eq!(ahead, [1.0, 2.0, 3.0, 0.5 + 2.0 * trend.rate[3], 1.5]);
         // A level that is not a binary fraction: no motion, whatever the rounding.
         let level = history((0..37).map(|_| [0.3, 1.1, 0.7, 2.9, 1.3]));
         assert_eq!(Trend::of(&level).significance, [0.0; 5]);

@@ -261,18 +261,15 @@ impl Person {
                 }
                 let plain = &mut self.scratch[..horizons.len()];
                 self.forecaster.forecast_both(horizons, out, plain)?;
-                let rate = self
-                    .trend
-                    .unwrap_or_else(|| Trend::of(&self.forecaster))
-                    .rate;
+                let trend = self.trend.unwrap_or_else(|| Trend::of(&self.forecaster));
                 for ((pose, plain), h) in out.iter_mut().zip(plain.iter()).zip(horizons) {
                     let w = check.weights(*h);
+                    let velocity = trend.continued(&hold, *h);
                     for c in 0..5 {
-                        let velocity = hold[c] + rate[c] * h;
                         pose[c] = w[c][0] * hold[c]
                             + w[c][1] * pose[c]
                             + w[c][2] * plain[c]
-                            + w[c][3] * velocity;
+                            + w[c][3] * velocity[c];
                     }
                 }
             }
@@ -343,8 +340,7 @@ impl Person {
             .is_ok()
         {
             check.set_steady(trend.steady(), trend.seen);
-            let velocity =
-                CHECK_HORIZONS.map(|h| std::array::from_fn(|c| sample[c] + trend.rate[c] * h));
+            let velocity = CHECK_HORIZONS.map(|h| trend.continued(&sample, h));
             check.record(t, sample, &damped, &plain, &velocity);
         }
     }
