@@ -49,6 +49,7 @@ pub mod gating;
 pub mod history;
 pub mod person;
 pub mod plane;
+pub mod quantile;
 pub mod selfcheck;
 pub mod sides;
 pub mod smoothing;

@@ -25,6 +25,7 @@
 //! stays in place, a guess, and a guess that wins a few recent scores by chance would otherwise
 //! be continued. The centre of a steady walk is the exception: it mixes its trends freely.
 
+use crate::quantile::RecentQuantile;
 use crate::{Pose, AZIMUTH, ELEVATION};
 
 /// Time constant (s) with which old scores are forgotten.
@@ -36,7 +37,11 @@ const MIN_SCORED: f64 = 3.0;
 pub const SIGNIFICANCE: f64 = 2.0;
 const HOLD: usize = 0;
 const VELOCITY: usize = 3;
-/// Half-width of a central 80 % interval in units of [`SelfCheck::spread`], per pose component.
+/// Share of the truth a forecast interval is to cover.
+pub const COVERAGE: f64 = 0.8;
+/// Half-width of a central 80 % interval in units of [`SelfCheck::spread`], per pose component,
+/// before the track's own errors say otherwise: the prior of [`SelfCheck::half_width`], counted
+/// as a few scores' worth.
 /// A normal error would need 1.28; forecast errors against the truth have heavier tails and
 /// include what the track cannot see in its own errors (the estimate's offset from the true
 /// pose), by different amounts for the centre and the angles, so each multiplier was set on the
@@ -56,6 +61,9 @@ const H: usize = HORIZONS.len();
 struct Prediction {
     made: f64,
     poses: [[Pose; CANDIDATES]; H],
+    /// Per checked horizon: the forecast the mix gave, and its spread (NaN before any check).
+    mixed: [Pose; H],
+    spread: [Pose; H],
     /// Per checked horizon: not yet scored.
     pending: [bool; H],
 }
@@ -85,6 +93,9 @@ pub struct SelfCheck {
     squares: [[[[f64; CANDIDATES]; CANDIDATES]; 5]; H],
     scored: [f64; H],
     last_scored: [Option<f64>; H],
+    /// Per checked horizon and component, the recent errors of the forecasts given, in units
+    /// of the spread given with them.
+    tails: [[RecentQuantile; 5]; H],
     /// Per checked horizon and component, the minimum-variance weights of `sums` where
     /// `fresh` says they are up to date ([`prepare`](SelfCheck::prepare)): a track's forecast
     /// and its intervals in one frame share them.
@@ -108,6 +119,7 @@ impl SelfCheck {
             squares: [[[[0.0; CANDIDATES]; CANDIDATES]; 5]; H],
             scored: [0.0; H],
             last_scored: [None; H],
+            tails: [[RecentQuantile::default(); 5]; H],
             mix: [HOLD_ALL; H],
             fresh: [false; H],
             steady: [false; 5],
@@ -126,6 +138,21 @@ impl SelfCheck {
         plain: &[Pose; H],
         velocity: &[Pose; H],
     ) {
+        // The forecast this track gives now, with its spread, as its latest call to
+        // `forecast` prepared it (a horizon not asked for since the last score is not solved
+        // again for this, and not checked).
+        let poses: [[Pose; CANDIDATES]; H] =
+            std::array::from_fn(|k| [sample, damped[k], plain[k], velocity[k]]);
+        let (mut mixed, mut spread) = ([[f64::NAN; 5]; H], [[f64::NAN; 5]; H]);
+        for (k, h) in HORIZONS.into_iter().enumerate() {
+            if let Some(j) = self.checked(h).filter(|&j| self.fresh[j]) {
+                let w = self.weights(h);
+                mixed[k] = std::array::from_fn(|c| {
+                    (0..CANDIDATES).map(|a| w[c][a] * poses[k][a][c]).sum()
+                });
+                spread[k] = self.spread_of(h, j, &w);
+            }
+        }
         for p in self.ring.iter_mut() {
             for k in 0..H {
                 if !(p.pending[k] && p.made + HORIZONS[k] <= t + self.half_step) {
@@ -139,6 +166,9 @@ impl SelfCheck {
                 self.last_scored[k] = Some(t);
                 self.scored[k] = self.scored[k] * decay + 1.0;
                 for c in 0..5 {
+                    let given = p.spread[k][c];
+                    let z = (given > 0.0).then(|| (sample[c] - p.mixed[k][c]).abs() / given);
+                    self.tails[k][c].add(z, decay);
                     let e = p.poses[k].map(|pose| sample[c] - pose[c]);
                     let (sums, squares) = (&mut self.sums[k][c], &mut self.squares[k][c]);
                     for a in 0..CANDIDATES {
@@ -152,7 +182,9 @@ impl SelfCheck {
         }
         self.ring[self.next] = Prediction {
             made: t,
-            poses: std::array::from_fn(|k| [sample, damped[k], plain[k], velocity[k]]),
+            poses,
+            mixed,
+            spread,
             pending: [true; H],
         };
         self.next = (self.next + 1) % self.ring.len();
@@ -273,14 +305,40 @@ impl SelfCheck {
     /// the spread holds their noise as well as the forecast's.
     pub fn spread(&self, horizon: f64) -> Option<[f64; 5]> {
         let k = self.checked(horizon)?;
-        let w = self.weights(horizon);
+        Some(self.spread_of(horizon, k, &self.weights(horizon)))
+    }
+
+    /// [`spread`](Self::spread) with the weights `w` and checked horizon `k` that serve
+    /// `horizon`.
+    fn spread_of(&self, horizon: f64, k: usize, w: &[[f64; CANDIDATES]; 5]) -> [f64; 5] {
         let growth = if k == self.nearest(horizon) {
             1.0
         } else {
             (horizon / HORIZONS[k]).max(1.0).sqrt()
         };
-        Some(std::array::from_fn(|c| {
+        std::array::from_fn(|c| {
             growth * (quadratic(&self.sums[k][c], &w[c]).max(0.0) / self.scored[k]).sqrt()
+        })
+    }
+
+    /// Per component, the half-width of an interval meant to hold the pose `horizon` seconds
+    /// ahead with probability [`COVERAGE`]: the [`spread`](Self::spread) times the share
+    /// [`COVERAGE`] of the track's recent errors at that horizon in units of the spread given
+    /// with them, [`INTERVAL_80`] counted among them as [`MIN_SCORED`] errors' worth (so a
+    /// walker's few outliers, which swell its spread, and a player whose motion keeps changing
+    /// beyond what its spread foresaw, each move their own multiple). Where a shorter check
+    /// stands in for `horizon`, [`INTERVAL_80`] alone. `None` when `spread` is.
+    pub fn half_width(&self, horizon: f64) -> Option<[f64; 5]> {
+        let spread = self.spread(horizon)?;
+        let k = self.checked(horizon)?;
+        let own = k == self.nearest(horizon);
+        Some(std::array::from_fn(|c| {
+            let multiple = if own {
+                self.tails[k][c].quantile(COVERAGE, INTERVAL_80[c], MIN_SCORED)
+            } else {
+                INTERVAL_80[c]
+            };
+            multiple * spread[c]
         }))
     }
 
@@ -300,9 +358,12 @@ impl SelfCheck {
     fn nearest(&self, horizon: f64) -> usize {
         (0..H)
             .min_by(|&a, &b| {
-                let da = (horizon.max(1e-3) / HORIZONS[a]).ln().abs();
-                let db = (horizon.max(1e-3) / HORIZONS[b]).ln().abs();
-                da.total_cmp(&db)
+                // The ratio's distance from one on a log scale, without the logarithm.
+                let far = |k: usize| {
+                    let r = horizon.max(1e-3) / HORIZONS[k];
+                    r.max(1.0 / r)
+                };
+                far(a).total_cmp(&far(b))
             })
             .unwrap_or(0)
     }
@@ -322,6 +383,7 @@ impl SelfCheck {
         self.squares = [[[[0.0; CANDIDATES]; CANDIDATES]; 5]; H];
         self.scored = [0.0; H];
         self.last_scored = [None; H];
+        self.tails = [[RecentQuantile::default(); 5]; H];
         self.steady = [false; 5];
         self.seen = 0.0;
         self.mix = [HOLD_ALL; H];
@@ -476,6 +538,38 @@ mod tests {
         assert!(check.spread(0.4).unwrap()[0] < 1e-12);
         assert!((check.spread(1.0).unwrap()[0] - 0.2).abs() < 1e-9);
         assert!((check.spread(2.0).unwrap()[0] - 0.2 * 2f64.sqrt()).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_interval_s_multiple_of_the_spread_is_the_track_s_own_errors_quantile() {
+        // Samples of ±0.1 in a pseudo-random order, every candidate holding still: half the
+        // errors 0.4 s ahead are 0 and half ±0.2, so the spread (their root mean square) is
+        // 0.2 / √2 and 80 % of the errors lie within √2 spreads, not INTERVAL_80's 2.
+        let mut check = SelfCheck::new(25.0);
+        let mut state: u32 = 12345;
+        for k in 0..200 {
+            let t = k as f64 / 25.0;
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            let sample = [if state >> 31 == 1 { 0.1 } else { -0.1 }; 5];
+            // A track's forecast in each frame brings its mix up to date.
+            for h in HORIZONS {
+                check.prepare(h);
+            }
+            if k == 15 {
+                // Scored a few times, nothing of its own errors yet: the prior multiple.
+                let (half, spread) = (check.half_width(0.4).unwrap(), check.spread(0.4).unwrap());
+                assert!((half[0] / spread[0] - INTERVAL_80[0]).abs() < 1e-12);
+            }
+            check.record(t, sample, &[sample; 3], &[sample; 3], &[sample; 3]);
+        }
+        let (half, spread) = (check.half_width(0.4).unwrap(), check.spread(0.4).unwrap());
+        let multiple = half[0] / spread[0];
+        assert!((multiple / 2f64.sqrt() - 1.0).abs() < 0.13, "{multiple}");
+        assert!(
+            (spread[0] - 0.2 / 2f64.sqrt()).abs() < 0.03,
+            "{}",
+            spread[0]
+        );
     }
 
     #[test]

@@ -34,7 +34,7 @@ use crate::error::{Error, Result};
 use crate::forecaster::Forecaster;
 use crate::gating::{JointGate, JointStatus};
 use crate::plane::{fit_torso_plane, shoulder_heading};
-use crate::selfcheck::{SelfCheck, HORIZONS as CHECK_HORIZONS, INTERVAL_80};
+use crate::selfcheck::{SelfCheck, HORIZONS as CHECK_HORIZONS};
 use crate::sides::{Cues, Facing};
 use crate::trend::Trend;
 use crate::vec3::{add, finite, midpoint, sub};
@@ -291,7 +291,9 @@ impl Person {
 
     /// Half-widths of the central 80 % intervals around [`forecast`](Self::forecast)'s poses at
     /// `horizons`, per component, into `out`: the spread of the track's own recent forecast
-    /// errors ([`crate::selfcheck`]). `Ok(false)` (and `out` untouched) until the track has
+    /// errors, times the multiple of it that covered 80 % of them
+    /// ([`SelfCheck::half_width`](crate::selfcheck::SelfCheck::half_width)). `Ok(false)` (and
+    /// `out` untouched) until the track has
     /// checked a forecast, or without the self-check.
     pub fn intervals(&self, horizons: &[f64], out: &mut [Pose]) -> Result<bool> {
         if out.len() != horizons.len() {
@@ -309,8 +311,7 @@ impl Person {
             return Ok(false);
         }
         for (h, o) in horizons.iter().zip(out.iter_mut()) {
-            let spread = check.spread(*h).expect("has_spread said so");
-            *o = std::array::from_fn(|c| INTERVAL_80[c] * spread[c]);
+            *o = check.half_width(*h).expect("has_spread said so");
         }
         Ok(true)
     }
@@ -339,9 +340,10 @@ impl Person {
             .forecast_both(&CHECK_HORIZONS, &mut damped, &mut plain)
             .is_ok()
         {
-            check.set_steady(trend.steady(), trend.seen);
             let velocity = CHECK_HORIZONS.map(|h| trend.continued(&sample, h));
+            // Recorded with the mix the track's last forecast gave, then told what moves now.
             check.record(t, sample, &damped, &plain, &velocity);
+            check.set_steady(trend.steady(), trend.seen);
         }
     }
 

@@ -231,7 +231,8 @@ def markdown(bench: Benchmark, t: dict[str, Any], figures: list[str]) -> str:
     lines += ["", "## Forecast intervals", ""]
     lines.append(
         "Share of forecasts whose true pose fell inside the 80 % interval the track gave with it "
-        "(`half_width80`: the spread of the track's own recent forecast errors); the centre is the "
+        "(`half_width80`: the spread of the track's own recent forecast errors, times the multiple of "
+        "it that covered 80 % of them); the centre is the "
         "mean over its x, y and z intervals. A calibrated interval covers 80 %; given: the share of "
         "forecasts that came with one (a track gives none before it has checked a forecast)."
     )
