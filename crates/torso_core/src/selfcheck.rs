@@ -324,7 +324,7 @@ impl SelfCheck {
     /// Per component, the half-width of an interval meant to hold the pose `horizon` seconds
     /// ahead with probability [`COVERAGE`]: the [`spread`](Self::spread) times the share
     /// [`COVERAGE`] of the track's recent errors at that horizon in units of the spread given
-    /// with them, [`INTERVAL_80`] counted among them as [`MIN_SCORED`] errors' worth (so a
+    /// with them, [`INTERVAL_80`] counted among them as a few errors' worth (so a
     /// walker's few outliers, which swell its spread, and a player whose motion keeps changing
     /// beyond what its spread foresaw, each move their own multiple). Where a shorter check
     /// stands in for `horizon`, [`INTERVAL_80`] alone. `None` when `spread` is.
