@@ -76,30 +76,31 @@ impl RecentQuantile {
     /// of mass `prior_weight` among those kept (so that a few values move it only so far).
     /// Within a bin the mass is spread evenly on the log scale.
     pub fn quantile(&self, level: f64, prior: f64, prior_weight: f64) -> f64 {
-        let total = self.total() + prior_weight;
-        if !(total > 0.0) || self.total() <= 0.0 {
+        let kept = self.total();
+        if !(kept > 0.0) {
             return prior;
         }
-        let target = level * total;
+        let target = level * (kept + prior_weight);
         let p = position(prior);
         let at = |u: f64| LOWEST * (HIGHEST / LOWEST).powf(u / BINS as f64);
         let mut below = 0.0;
         for (i, &m) in self.mass.iter().enumerate() {
             let m = m * self.scale;
             let start = i as f64;
-            // The bin as pieces of even density, with the prior's mass where it lies.
-            let split = if p as usize == i { p } else { start + 1.0 };
-            for (from, to, point) in [(start, split, prior_weight), (split, start + 1.0, 0.0)] {
-                let piece = m * (to - from);
-                if piece > 0.0 && below + piece >= target {
+            // The bin's mass spread evenly, the prior's at its place inside its own bin.
+            let has_prior = p as usize == i;
+            let split = if has_prior { p } else { start + 1.0 };
+            for (piece, (from, to)) in [(start, split), (split, start + 1.0)].iter().enumerate() {
+                let mass = m * (to - from);
+                if mass > 0.0 && below + mass >= target {
                     return at(from + (target - below) / m);
                 }
-                below += piece;
-                if p as usize == i && to == split && point > 0.0 {
-                    if below + point >= target {
+                below += mass;
+                if has_prior && piece == 0 {
+                    below += prior_weight;
+                    if below >= target {
                         return prior;
                     }
-                    below += point;
                 }
             }
         }

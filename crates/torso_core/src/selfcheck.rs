@@ -139,8 +139,8 @@ impl SelfCheck {
         velocity: &[Pose; H],
     ) {
         // The forecast this track gives now, with its spread, as its latest call to
-        // `forecast` prepared it (a horizon not asked for since the last score is not solved
-        // again for this, and not checked).
+        // `forecast` prepared it. A horizon whose mix no forecast has solved since the last
+        // score is not solved again here: its prediction adds nothing to the intervals' errors.
         let poses: [[Pose; CANDIDATES]; H] =
             std::array::from_fn(|k| [sample, damped[k], plain[k], velocity[k]]);
         let (mut mixed, mut spread) = ([[f64::NAN; 5]; H], [[f64::NAN; 5]; H]);
@@ -358,12 +358,9 @@ impl SelfCheck {
     fn nearest(&self, horizon: f64) -> usize {
         (0..H)
             .min_by(|&a, &b| {
-                // The ratio's distance from one on a log scale, without the logarithm.
-                let far = |k: usize| {
-                    let r = horizon.max(1e-3) / HORIZONS[k];
-                    r.max(1.0 / r)
-                };
-                far(a).total_cmp(&far(b))
+                let da = (horizon.max(1e-3) / HORIZONS[a]).ln().abs();
+                let db = (horizon.max(1e-3) / HORIZONS[b]).ln().abs();
+                da.total_cmp(&db)
             })
             .unwrap_or(0)
     }

@@ -293,8 +293,7 @@ impl Person {
     /// `horizons`, per component, into `out`: the spread of the track's own recent forecast
     /// errors, times the multiple of it that covered 80 % of them
     /// ([`SelfCheck::half_width`](crate::selfcheck::SelfCheck::half_width)). `Ok(false)` (and
-    /// `out` untouched) until the track has
-    /// checked a forecast, or without the self-check.
+    /// `out` untouched) until the track has checked a forecast, or without the self-check.
     pub fn intervals(&self, horizons: &[f64], out: &mut [Pose]) -> Result<bool> {
         if out.len() != horizons.len() {
             return Err(Error::LengthMismatch {
