@@ -322,8 +322,11 @@ def test_a_walkers_track_checks_its_forecasts_and_gives_intervals():
         t = k / 25
         joints, scores = person([3.0, 1.0 * t, 1.0], np.pi / 2)
         track.update(t, joints + rng.normal(0.0, 0.005, joints.shape), scores, CAMERA)
+        if k == 2:
+            assert track.intervals([0.4]) is None  # too short a history for a line
         if k == 5:
-            assert track.intervals([0.4]) is None  # nothing checked yet
+            early = track.intervals([0.4])  # nothing checked yet: the history's line speaks
+            assert early.shape == (1, 5) and np.isfinite(early).all() and (early > 0).all()
     ahead = track.forecast([1.0])
     # More of the walk than the damped trend alone carries (1.5 (1 - e^(-1/1.5)) = 0.73 m).
     assert 0.75 < ahead[0, 1] - 99 / 25 < 1.1

@@ -243,7 +243,9 @@ class Person:
         the history holds enough samples."""
     def intervals(self, horizons: Sequence[float]) -> _F64 | None:
         """``(len(horizons), 5)`` half-widths of the central 80 % intervals around
-        :meth:`forecast`; None until the track has checked a forecast."""
+        :meth:`forecast`: the spread of the track's recent forecast errors times the multiple of
+        it that covered 80 % of them, or before any forecast was checked what the line through
+        the history says; None while the history is too short for a line."""
     def __len__(self) -> int: ...
     @property
     def last_time(self) -> float | None:

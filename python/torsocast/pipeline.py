@@ -43,7 +43,7 @@ class FrameResult:
     """Detection index -> ``(horizons, 5)`` forecast of its confirmed track."""
     intervals: dict[int, F64] = field(default_factory=dict)
     """Detection index -> ``(horizons, 5)`` half-widths of the 80 % intervals around its
-    forecast, once the track has checked its forecasts."""
+    forecast, once the track's history is long enough for a line."""
     restarted_from: float | None = None
     """The previous frame's time when this frame's clock went back by more than
     :attr:`Pipeline.restart_after`: every track was dropped and tracking started again."""

@@ -26,6 +26,7 @@
 //! be continued. The centre of a steady walk is the exception: it mixes its trends freely.
 
 use crate::quantile::RecentQuantile;
+use crate::trend::Trend;
 use crate::{Pose, AZIMUTH, ELEVATION};
 
 /// Time constant (s) with which old scores are forgotten.
@@ -51,6 +52,14 @@ pub const COVERAGE: f64 = 0.8;
 /// ([`PersonConfig::surface_depth`](crate::PersonConfig::surface_depth)): the offset it had
 /// made up for is gone.
 pub const INTERVAL_80: [f64; 5] = [2.0, 2.0, 2.0, 1.9, 1.6];
+/// Per component, the half-width of an interval meant to hold the pose `horizon` seconds ahead
+/// before the track has checked a forecast: [`INTERVAL_80`] times what the line through the
+/// history says a forecast may err ([`Trend::spread`]). `None` for a history too short to fit.
+pub fn unchecked_half_width(trend: &Trend, horizon: f64) -> Option<[f64; 5]> {
+    let spread = trend.spread(horizon)?;
+    Some(std::array::from_fn(|c| INTERVAL_80[c] * spread[c]))
+}
+
 /// The candidates: hold still, damped trend, plain trend, constant velocity over the history.
 pub const CANDIDATES: usize = 4;
 /// The horizons (s) checked: the thesis' 0.4, 1 and 2 s.

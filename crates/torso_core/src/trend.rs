@@ -49,6 +49,8 @@ pub struct Trend {
     /// The angles' is the ordinary one: a turning person's rate changes smoothly, and so
     /// corrected the steady turns were missed (docs/benchmark.md).
     pub significance: Pose,
+    /// Root-mean-square scatter of each component's history about its line.
+    pub scatter: Pose,
     /// Seconds of history the line was fitted to (samples over the grid rate).
     pub seen: f64,
     /// The azimuth steps by more than a quarter turn between two samples somewhere in the
@@ -121,6 +123,7 @@ impl Trend {
         });
         let rate_hz = f.config().rate_hz;
         Self {
+            scatter: residual.map(|r| (r / (n - 2) as f64).sqrt()),
             seen: n as f64 / rate_hz,
             flipped,
             rate: slope.map(|s| s * rate_hz),
@@ -140,6 +143,30 @@ impl Trend {
     /// rate continued.
     pub fn continued(&self, sample: &Pose, horizon: f64) -> Pose {
         std::array::from_fn(|c| sample[c] + self.rate[c] * horizon)
+    }
+
+    /// Per component, how far a forecast `horizon` seconds ahead may err by what this history
+    /// alone says (before any forecast of the track has been checked): the scatter about the
+    /// line (the estimates' noise) with, for a steady component, its rate's standard error over
+    /// the horizon, and for any other the whole fitted motion over the horizon (held still, it
+    /// is what the forecast misses if the motion goes on). `None` for a history too short to
+    /// fit.
+    pub fn spread(&self, horizon: f64) -> Option<Pose> {
+        if self.seen == 0.0 {
+            return None;
+        }
+        let steady = self.steady();
+        Some(std::array::from_fn(|c| {
+            let s = self.significance[c];
+            let rate = if !steady[c] {
+                self.rate[c].abs()
+            } else if s.is_finite() {
+                self.rate[c].abs() / s
+            } else {
+                0.0
+            };
+            self.scatter[c].hypot(rate * horizon)
+        }))
     }
 
     /// Per component, whether it moves steadily: its rate [`STEADY_CENTRE`] (centre) or
@@ -189,6 +216,36 @@ mod tests {
         let sse: f64 = r.iter().map(|v| v * v).sum();
         let rho = r.windows(2).map(|w| w[0] * w[1]).sum::<f64>() / sse;
         (b, b / (sse / (n - 2.0) / sxx).sqrt(), rho)
+    }
+
+    #[test]
+    fn before_any_check_the_spread_is_the_scatter_with_the_rate_s_error_or_the_whole_motion() {
+        // The centre's x stays about a level (no walk: the whole fitted motion counts); the
+        // azimuth turns steadily (only its rate's standard error counts); the same noise on both.
+        let noise = |k: usize| 0.01 * [1.0, -1.0, 0.5, -0.3, 0.8][k % 5];
+        let (xs, azimuths): (Vec<f64>, Vec<f64>) = (0..50)
+            .map(|k| (1.0 + noise(k), 0.02 * k as f64 + noise(k)))
+            .unzip();
+        let trend = Trend::of(&history(
+            xs.iter()
+                .zip(&azimuths)
+                .map(|(&x, &a)| [x, 0.0, 1.0, a, 1.5]),
+        ));
+        assert!(!trend.steady()[0] && trend.steady()[AZIMUTH]);
+        let sxx: f64 = 50.0 * (50.0 * 50.0 - 1.0) / 12.0;
+        let h = 2.0;
+        let spread = trend.spread(h).unwrap();
+        let (b, t, _) = by_hand(&xs);
+        let scatter = (b / t).abs() * sxx.sqrt();
+        assert!((spread[0] - scatter.hypot(25.0 * b.abs() * h)).abs() < 1e-12);
+        let (b, t, _) = by_hand(&azimuths);
+        let scatter = (b / t).abs() * sxx.sqrt();
+        assert!((spread[AZIMUTH] - scatter.hypot(25.0 * (b / t).abs() * h)).abs() < 1e-12);
+        // A history too short for a line says nothing.
+        assert_eq!(
+            Trend::of(&history((0..3).map(|_| [0.0; 5]))).spread(h),
+            None
+        );
     }
 
     #[test]

@@ -104,7 +104,7 @@ impl Person {
     }
 
     /// intervals(horizons) -> array (len(horizons), 5) of the half-widths of the central 80 %
-    /// intervals around forecast(horizons), or None before the track has checked a forecast
+    /// intervals around forecast(horizons), or None while the history is too short for a line
     fn intervals<'py>(
         &mut self,
         py: Python<'py>,

@@ -41,8 +41,8 @@ pub struct TrackOutcome {
     last_time: Option<f64>,
     /// `(len(horizons), 5)` forecast of a confirmed track, once its history is long enough.
     forecast: Option<Py<PyArray2<f64>>>,
-    /// `(len(horizons), 5)` half-widths of the 80 % intervals around `forecast`, once the track
-    /// has checked its forecasts.
+    /// `(len(horizons), 5)` half-widths of the 80 % intervals around `forecast`, once the track's
+    /// history is long enough for a line.
     intervals: Option<Py<PyArray2<f64>>>,
 }
 

@@ -34,7 +34,7 @@ use crate::error::{Error, Result};
 use crate::forecaster::Forecaster;
 use crate::gating::{JointGate, JointStatus};
 use crate::plane::{fit_torso_plane, shoulder_heading};
-use crate::selfcheck::{SelfCheck, HORIZONS as CHECK_HORIZONS};
+use crate::selfcheck::{unchecked_half_width, SelfCheck, HORIZONS as CHECK_HORIZONS};
 use crate::sides::{Cues, Facing};
 use crate::trend::Trend;
 use crate::vec3::{add, finite, midpoint, sub};
@@ -292,8 +292,10 @@ impl Person {
     /// Half-widths of the central 80 % intervals around [`forecast`](Self::forecast)'s poses at
     /// `horizons`, per component, into `out`: the spread of the track's own recent forecast
     /// errors, times the multiple of it that covered 80 % of them
-    /// ([`SelfCheck::half_width`](crate::selfcheck::SelfCheck::half_width)). `Ok(false)` (and
-    /// `out` untouched) until the track has checked a forecast, or without the self-check.
+    /// ([`SelfCheck::half_width`](crate::selfcheck::SelfCheck::half_width)); before the track
+    /// has checked a forecast, what the line through its history says a forecast may err
+    /// ([`unchecked_half_width`](crate::selfcheck::unchecked_half_width)). `Ok(false)` (and
+    /// `out` untouched) while the history is too short for a line, or without the self-check.
     pub fn intervals(&self, horizons: &[f64], out: &mut [Pose]) -> Result<bool> {
         if out.len() != horizons.len() {
             return Err(Error::LengthMismatch {
@@ -306,11 +308,22 @@ impl Person {
         let Some(check) = &self.check else {
             return Ok(false);
         };
-        if !horizons.iter().all(|&h| check.has_spread(h)) {
+        if horizons.iter().all(|&h| check.has_spread(h)) {
+            for (h, o) in horizons.iter().zip(out.iter_mut()) {
+                *o = check.half_width(*h).expect("has_spread said so");
+            }
+            return Ok(true);
+        }
+        // Nothing checked yet: what the line through the history says, where it says something
+        // finite (absurd coordinates can overflow it).
+        let trend = self.trend.unwrap_or_else(|| Trend::of(&self.forecaster));
+        let usable =
+            |h: f64| unchecked_half_width(&trend, h).filter(|w| w.iter().all(|v| v.is_finite()));
+        if !horizons.iter().all(|&h| usable(h).is_some()) {
             return Ok(false);
         }
         for (h, o) in horizons.iter().zip(out.iter_mut()) {
-            *o = check.half_width(*h).expect("has_spread said so");
+            *o = usable(*h).expect("checked above");
         }
         Ok(true)
     }

@@ -234,7 +234,7 @@ def markdown(bench: Benchmark, t: dict[str, Any], figures: list[str]) -> str:
         "(`half_width80`: the spread of the track's own recent forecast errors, times the multiple of "
         "it that covered 80 % of them); the centre is the "
         "mean over its x, y and z intervals. A calibrated interval covers 80 %; given: the share of "
-        "forecasts that came with one (a track gives none before it has checked a forecast)."
+        "forecasts that came with one (a track gives none while its history is too short for a line)."
     )
     for axis in ("all", "category", "view"):
         lines += ["", f"### {AXIS_NAMES[axis].capitalize()}" if axis != "all" else "### All", ""]
