@@ -55,7 +55,7 @@ fn position(value: f64) -> f64 {
 
 impl RecentQuantile {
     /// Scales every mass kept by `decay` (how much of an old value is remembered), then adds
-    /// `value` (non-negative) with mass one; `None` only forgets.
+    /// `value` with mass one; `None`, and a value that is negative or NaN, only forget.
     pub fn add(&mut self, value: Option<f64>, decay: f64) {
         self.scale *= decay;
         if !(self.scale > 1e-200) {
@@ -175,6 +175,11 @@ mod tests {
         assert!(q.quantile(0.5, 1.0, 0.0) <= HIGHEST);
         q.add(Some(0.0), 1.0);
         assert!(q.quantile(0.1, 1.0, 0.0) >= LOWEST);
+        // Not a value: only forgotten with.
+        let before = q.total();
+        q.add(Some(f64::NAN), 1.0);
+        q.add(Some(-1.0), 1.0);
+        assert_eq!(q.total(), before);
         q.add(None, 0.0);
         assert_eq!(q.total(), 0.0);
         assert_eq!(q.quantile(0.8, 1.5, 3.0), 1.5);

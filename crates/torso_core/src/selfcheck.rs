@@ -338,8 +338,8 @@ impl SelfCheck {
     /// beyond what its spread foresaw, each move their own multiple). Where a shorter check
     /// stands in for `horizon`, [`INTERVAL_80`] alone. `None` when `spread` is.
     pub fn half_width(&self, horizon: f64) -> Option<[f64; 5]> {
-        let spread = self.spread(horizon)?;
         let k = self.checked(horizon)?;
+        let spread = self.spread_of(horizon, k, &self.weights(horizon));
         let own = k == self.nearest(horizon);
         Some(std::array::from_fn(|c| {
             let multiple = if own {
