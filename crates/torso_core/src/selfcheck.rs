@@ -17,7 +17,10 @@
 //! history it was seen over, or where continuing the turn has already beaten holding still
 //! significantly at a shorter checked horizon (a walk mostly goes on; a turn is continued
 //! further ahead than it has been seen to last only once the track's own forecasts have shown
-//! it going on); the elevation always holds still. A component's mix
+//! it going on), and a turn only while it is still coming true (continuing it has missed by
+//! less than holding still in at least half of the recent scores at the shortest horizon: a
+//! turn that has stopped stays in the history's line for as long as the history holds it);
+//! the elevation always holds still. A component's mix
 //! takes another candidate than its prior only when that one's gain over the prior (the
 //! difference of their squared errors) is significant: its mean [`SIGNIFICANCE`] standard
 //! errors above zero, counting the scores of one horizon's span as one (overlapping forecasts
@@ -101,6 +104,9 @@ pub struct SelfCheck {
     sums: [[[[f64; CANDIDATES]; CANDIDATES]; 5]; H],
     squares: [[[[f64; CANDIDATES]; CANDIDATES]; 5]; H],
     scored: [f64; H],
+    /// At the shortest checked horizon: the forgetting count of the scores at which
+    /// continuing the azimuth's line missed by less than holding it still.
+    turn_wins: f64,
     last_scored: [Option<f64>; H],
     /// Per checked horizon and component, the recent errors of the forecasts given, in units
     /// of the spread given with them.
@@ -127,6 +133,7 @@ impl SelfCheck {
             sums: [[[[0.0; CANDIDATES]; CANDIDATES]; 5]; H],
             squares: [[[[0.0; CANDIDATES]; CANDIDATES]; 5]; H],
             scored: [0.0; H],
+            turn_wins: 0.0,
             last_scored: [None; H],
             tails: [[RecentQuantile::default(); 5]; H],
             mix: [HOLD_ALL; H],
@@ -174,6 +181,12 @@ impl SelfCheck {
                     self.last_scored[k].map_or(1.0, |last| (-(t - last).max(0.0) / MEMORY).exp());
                 self.last_scored[k] = Some(t);
                 self.scored[k] = self.scored[k] * decay + 1.0;
+                if k == 0 {
+                    let (turned, held) = (p.poses[0][VELOCITY], p.poses[0][HOLD]);
+                    let won = (sample[AZIMUTH] - turned[AZIMUTH]).abs()
+                        < (sample[AZIMUTH] - held[AZIMUTH]).abs();
+                    self.turn_wins = self.turn_wins * decay + f64::from(u8::from(won));
+                }
                 for c in 0..5 {
                     let given = p.spread[k][c];
                     let z = (given > 0.0).then(|| (sample[c] - p.mixed[k][c]).abs() / given);
@@ -234,7 +247,11 @@ impl SelfCheck {
     fn prior(&self, c: usize, k: usize) -> usize {
         let steady = match c {
             0..=2 => self.steady[c],
-            AZIMUTH => self.steady[c] && (self.seen >= HORIZONS[k] - 1e-9 || self.turn_shown(k)),
+            AZIMUTH => {
+                self.steady[c]
+                    && (self.seen >= HORIZONS[k] - 1e-9 || self.turn_shown(k))
+                    && self.turn_goes_on()
+            }
             _ => false,
         };
         if steady {
@@ -242,6 +259,16 @@ impl SelfCheck {
         } else {
             HOLD
         }
+    }
+
+    /// Whether the turn is still coming true: continuing the azimuth's line has missed by less
+    /// than holding still in at least half of the recent scores at the shortest horizon (yes
+    /// before a few scores). A line through a turn that has stopped still passes the
+    /// steadiness test for as long as the turn stays in the history; the shortest horizon's
+    /// scores are the first to show it stopped. Counting wins, not summing squares: one bad
+    /// plane's estimate would outweigh a second of a turn coming true.
+    fn turn_goes_on(&self) -> bool {
+        self.scored[0] < MIN_SCORED || self.turn_wins >= 0.5 * self.scored[0]
     }
 
     /// Whether continuing the azimuth's line has beaten holding still, significantly, at a
@@ -388,6 +415,7 @@ impl SelfCheck {
         self.sums = [[[[0.0; CANDIDATES]; CANDIDATES]; 5]; H];
         self.squares = [[[[0.0; CANDIDATES]; CANDIDATES]; 5]; H];
         self.scored = [0.0; H];
+        self.turn_wins = 0.0;
         self.last_scored = [None; H];
         self.tails = [[RecentQuantile::default(); 5]; H];
         self.steady = [false; 5];
@@ -644,6 +672,37 @@ mod tests {
         let mut young = SelfCheck::new(25.0);
         young.set_steady([false, false, false, true, false], 1.2);
         assert_eq!(young.weights(2.0)[AZIMUTH], HOLD_ONLY);
+    }
+
+    #[test]
+    fn a_steady_turn_stops_being_the_prior_once_holding_wins_most_of_its_recent_scores() {
+        // Two tracks whose 2 s histories both pass the steadiness test for a turn. One turn
+        // goes on (continuing it comes true 0.4 s ahead, holding errs by 0.2 rad) but every
+        // fifth estimate is a bad plane 1 rad behind, which holding misses by less: in squares
+        // holding wins, in the count of scores the turn does. The other turn has stopped.
+        let (mut going, mut stopped) = (SelfCheck::new(25.0), SelfCheck::new(25.0));
+        for check in [&mut going, &mut stopped] {
+            check.set_steady([false, false, false, true, false], 2.0);
+        }
+        let at = |az: f64| [0.0, 0.0, 1.0, az, 1.5];
+        for k in 0..50 {
+            let t = k as f64 / 25.0;
+            let bad = if k % 5 == 4 { 1.0 } else { 0.0 };
+            let held = [at(0.5 * t); 3];
+            let velocity = HORIZONS.map(|h| at(0.5 * (t + h)));
+            going.record(t, at(0.5 * t - bad), &held, &held, &velocity);
+            let held = [at(0.0); 3];
+            let velocity = HORIZONS.map(|h| at(0.5 * h));
+            stopped.record(t, at(0.0), &held, &held, &velocity);
+        }
+        let squares = &going.sums[0][AZIMUTH];
+        assert!(squares[HOLD][HOLD] < squares[VELOCITY][VELOCITY]);
+        assert_eq!(going.prior(AZIMUTH, 0), VELOCITY);
+        assert_eq!(stopped.prior(AZIMUTH, 0), HOLD);
+        assert_eq!(stopped.weights(0.4)[AZIMUTH], HOLD_ONLY);
+        // The walk's prior is not the turn's business.
+        stopped.set_steady([true, false, false, true, false], 2.0);
+        assert_eq!(stopped.prior(0, 0), VELOCITY);
     }
 
     #[test]
