@@ -181,17 +181,15 @@ impl SelfCheck {
                     self.last_scored[k].map_or(1.0, |last| (-(t - last).max(0.0) / MEMORY).exp());
                 self.last_scored[k] = Some(t);
                 self.scored[k] = self.scored[k] * decay + 1.0;
-                if k == 0 {
-                    let (turned, held) = (p.poses[0][VELOCITY], p.poses[0][HOLD]);
-                    let won = (sample[AZIMUTH] - turned[AZIMUTH]).abs()
-                        < (sample[AZIMUTH] - held[AZIMUTH]).abs();
-                    self.turn_wins = self.turn_wins * decay + f64::from(u8::from(won));
-                }
                 for c in 0..5 {
                     let given = p.spread[k][c];
                     let z = (given > 0.0).then(|| (sample[c] - p.mixed[k][c]).abs() / given);
                     self.tails[k][c].add(z, decay);
                     let e = p.poses[k].map(|pose| sample[c] - pose[c]);
+                    if k == 0 && c == AZIMUTH {
+                        let won = e[VELOCITY].abs() < e[HOLD].abs();
+                        self.turn_wins = self.turn_wins * decay + f64::from(u8::from(won));
+                    }
                     let (sums, squares) = (&mut self.sums[k][c], &mut self.squares[k][c]);
                     for a in 0..CANDIDATES {
                         for b in 0..CANDIDATES {
