@@ -14,13 +14,13 @@
 //! Each component has a prior candidate, the one it forecasts with before any check: holding
 //! still, unless the track's history shows the component moving steadily: then constant
 //! velocity (a walk, a steady turn), for the azimuth only for horizons no longer than the
-//! history it was seen over, or where continuing the turn has already beaten holding still
-//! significantly at a shorter checked horizon (a walk mostly goes on; a turn is continued
-//! further ahead than it has been seen to last only once the track's own forecasts have shown
-//! it going on), and a turn only while it is still coming true (continuing it has missed by
-//! less than holding still in at least half of the recent scores at the shortest horizon: a
-//! turn that has stopped stays in the history's line for as long as the history holds it);
-//! the elevation always holds still. A component's mix
+//! history it was seen over, or where continuing the turn has already come true at every
+//! shorter checked horizon (a walk mostly goes on; a turn is continued further ahead than it
+//! has been seen to last only once the track's own forecasts have shown it going on), and a
+//! turn only while it is still coming true (continuing it has missed by less than holding still
+//! in at least half of the recent scores at the shortest horizon: a turn that has stopped stays
+//! in the history's line for as long as the history holds it); the elevation always holds
+//! still. A component's mix
 //! takes another candidate than its prior only when that one's gain over the prior (the
 //! difference of their squared errors) is significant: its mean [`SIGNIFICANCE`] standard
 //! errors above zero, counting the scores of one horizon's span as one (overlapping forecasts
@@ -104,9 +104,9 @@ pub struct SelfCheck {
     sums: [[[[f64; CANDIDATES]; CANDIDATES]; 5]; H],
     squares: [[[[f64; CANDIDATES]; CANDIDATES]; 5]; H],
     scored: [f64; H],
-    /// At the shortest checked horizon: the forgetting count of the scores at which
-    /// continuing the azimuth's line missed by less than holding it still.
-    turn_wins: f64,
+    /// Per checked horizon: the forgetting count of the scores at which continuing the
+    /// azimuth's line missed by less than holding it still.
+    turn_wins: [f64; H],
     last_scored: [Option<f64>; H],
     /// Per checked horizon and component, the recent errors of the forecasts given, in units
     /// of the spread given with them.
@@ -133,7 +133,7 @@ impl SelfCheck {
             sums: [[[[0.0; CANDIDATES]; CANDIDATES]; 5]; H],
             squares: [[[[0.0; CANDIDATES]; CANDIDATES]; 5]; H],
             scored: [0.0; H],
-            turn_wins: 0.0,
+            turn_wins: [0.0; H],
             last_scored: [None; H],
             tails: [[RecentQuantile::default(); 5]; H],
             mix: [HOLD_ALL; H],
@@ -186,9 +186,9 @@ impl SelfCheck {
                     let z = (given > 0.0).then(|| (sample[c] - p.mixed[k][c]).abs() / given);
                     self.tails[k][c].add(z, decay);
                     let e = p.poses[k].map(|pose| sample[c] - pose[c]);
-                    if k == 0 && c == AZIMUTH {
+                    if c == AZIMUTH {
                         let won = e[VELOCITY].abs() < e[HOLD].abs();
-                        self.turn_wins = self.turn_wins * decay + f64::from(u8::from(won));
+                        self.turn_wins[k] = self.turn_wins[k] * decay + f64::from(u8::from(won));
                     }
                     let (sums, squares) = (&mut self.sums[k][c], &mut self.squares[k][c]);
                     for a in 0..CANDIDATES {
@@ -266,13 +266,22 @@ impl SelfCheck {
     /// scores are the first to show it stopped. Counting wins, not summing squares: one bad
     /// plane's estimate would outweigh a second of a turn coming true.
     fn turn_goes_on(&self) -> bool {
-        self.scored[0] < MIN_SCORED || self.turn_wins >= 0.5 * self.scored[0]
+        self.scored[0] < MIN_SCORED || self.turn_came_true(0)
     }
 
-    /// Whether continuing the azimuth's line has beaten holding still, significantly, at a
-    /// checked horizon shorter than `k`: the track's own forecasts have shown its turn going on.
+    /// Whether the track's own forecasts have shown its turn going on at every checked horizon
+    /// shorter than `k` (at least one): continuing the azimuth's line missed by less than
+    /// holding still in at least half of the recent scores at each. Wins, as in
+    /// [`turn_goes_on`](Self::turn_goes_on): the mean gain in squares, against its spread, hardly
+    /// ever showed a turn, bad planes and all, going on.
     fn turn_shown(&self, k: usize) -> bool {
-        (0..k).any(|j| self.scored[j] >= MIN_SCORED && self.significant(j, AZIMUTH, VELOCITY, HOLD))
+        k > 0 && (0..k).all(|j| self.turn_came_true(j))
+    }
+
+    /// Whether continuing the azimuth's line has missed by less than holding still in at least
+    /// half of the recent scores at checked horizon `k`, scored a few times.
+    fn turn_came_true(&self, k: usize) -> bool {
+        self.scored[k] >= MIN_SCORED && self.turn_wins[k] >= 0.5 * self.scored[k]
     }
 
     /// Tells the check which components of the track's history move steadily
@@ -413,7 +422,7 @@ impl SelfCheck {
         self.sums = [[[[0.0; CANDIDATES]; CANDIDATES]; 5]; H];
         self.squares = [[[[0.0; CANDIDATES]; CANDIDATES]; 5]; H];
         self.scored = [0.0; H];
-        self.turn_wins = 0.0;
+        self.turn_wins = [0.0; H];
         self.last_scored = [None; H];
         self.tails = [[RecentQuantile::default(); 5]; H];
         self.steady = [false; 5];
@@ -645,11 +654,15 @@ mod tests {
 
     #[test]
     fn a_turn_is_continued_further_than_seen_once_its_forecasts_have_come_true() {
-        // Two young tracks whose azimuth history is a steady turn seen for 1.2 s. One turn goes
-        // on: continuing it came true 0.4 s ahead, holding erred by 0.2 rad. The other stopped
-        // as each forecast was made: continuing it erred by 0.2 rad, holding was right.
-        let (mut going, mut stopped) = (SelfCheck::new(25.0), SelfCheck::new(25.0));
-        for check in [&mut going, &mut stopped] {
+        // Young tracks whose azimuth history is a steady turn seen for 1.2 s. One turn goes
+        // on: continuing it came true 0.4 and 1 s ahead, holding erred by 0.2 and 0.5 rad. So
+        // does another, but every fifth estimate is a bad plane 1 rad behind, which holding
+        // misses by less: in squares holding wins or the turn's gain is lost in its spread, in
+        // the count of scores the turn wins. The last stopped as each forecast was made:
+        // continuing it erred, holding was right.
+        let mut going = SelfCheck::new(25.0);
+        let (mut bad_planes, mut stopped) = (going.clone(), going.clone());
+        for check in [&mut going, &mut bad_planes, &mut stopped] {
             check.set_steady([false, false, false, true, false], 1.2);
         }
         let at = |az: f64| [0.0, 0.0, 1.0, az, 1.5];
@@ -658,13 +671,17 @@ mod tests {
             let held = [at(0.5 * t); 3];
             let velocity = HORIZONS.map(|h| at(0.5 * (t + h)));
             going.record(t, at(0.5 * t), &held, &held, &velocity);
+            let bad = if k % 5 == 4 { 1.0 } else { 0.0 };
+            bad_planes.record(t, at(0.5 * t - bad), &held, &held, &velocity);
             let held = [at(0.0); 3];
             let velocity = HORIZONS.map(|h| at(0.5 * h));
             stopped.record(t, at(0.0), &held, &held, &velocity);
         }
-        // 2 s ahead (not yet checked, and longer than the turn has been seen): the turn whose
-        // forecasts came true is continued, the other held.
+        assert!((0..2).all(|j| !bad_planes.significant(j, AZIMUTH, VELOCITY, HOLD)));
+        // 2 s ahead (not yet checked, and longer than the turn has been seen): the turns whose
+        // forecasts came true are continued, the other held.
         assert_eq!(going.weights(2.0)[AZIMUTH], [0.0, 0.0, 0.0, 1.0]);
+        assert_eq!(bad_planes.weights(2.0)[AZIMUTH], [0.0, 0.0, 0.0, 1.0]);
         assert_eq!(stopped.weights(2.0)[AZIMUTH], HOLD_ONLY);
         // Before any forecast was scored, neither had shown anything: both held.
         let mut young = SelfCheck::new(25.0);
