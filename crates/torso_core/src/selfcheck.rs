@@ -55,14 +55,6 @@ pub const COVERAGE: f64 = 0.8;
 /// ([`PersonConfig::surface_depth`](crate::PersonConfig::surface_depth)): the offset it had
 /// made up for is gone.
 pub const INTERVAL_80: [f64; 5] = [2.0, 2.0, 2.0, 1.9, 1.6];
-/// Per component, the half-width of an interval meant to hold the pose `horizon` seconds ahead
-/// before the track has checked a forecast: [`INTERVAL_80`] times what the line through the
-/// history says a forecast may err ([`Trend::spread`]). `None` for a history too short to fit.
-pub fn unchecked_half_width(trend: &Trend, horizon: f64) -> Option<[f64; 5]> {
-    let spread = trend.spread(horizon)?;
-    Some(std::array::from_fn(|c| INTERVAL_80[c] * spread[c]))
-}
-
 /// The candidates: hold still, damped trend, plain trend, constant velocity over the history.
 pub const CANDIDATES: usize = 4;
 /// The horizons (s) checked: the thesis' 0.4, 1 and 2 s.
@@ -383,6 +375,19 @@ impl SelfCheck {
             };
             multiple * spread[c]
         }))
+    }
+
+    /// Per component, the half-width of an interval meant to hold the pose `horizon` seconds
+    /// ahead before the track has checked a forecast: [`INTERVAL_80`] times what `trend`, the
+    /// line through the track's history, says the forecast given then may err
+    /// ([`Trend::spread`]): a component whose prior at that horizon continues the line, by the
+    /// line's rate uncertain; one held still (a steady turn further ahead than it has been seen,
+    /// the elevation), by the whole fitted motion. `None` for a history too short to fit.
+    pub fn unchecked_half_width(&self, trend: &Trend, horizon: f64) -> Option<[f64; 5]> {
+        let k = self.nearest(horizon);
+        let continued = std::array::from_fn(|c| self.prior(c, k) == VELOCITY);
+        let spread = trend.spread(horizon, continued)?;
+        Some(std::array::from_fn(|c| INTERVAL_80[c] * spread[c]))
     }
 
     /// Whether [`spread`](Self::spread) has an answer for `horizon` (without computing it).
@@ -718,6 +723,31 @@ mod tests {
         // The walk's prior is not the turn's business.
         stopped.set_steady([true, false, false, true, false], 2.0);
         assert_eq!(stopped.prior(0, 0), VELOCITY);
+    }
+
+    #[test]
+    fn an_unchecked_interval_is_that_of_the_forecast_the_prior_gives() {
+        // A steady turn at 0.5 rad/s seen for 1.2 s, its rate 20 standard errors from zero;
+        // nothing checked yet. 0.4 and 1 s ahead the turn is continued: the interval allows for
+        // its rate's standard error. 2 s ahead (further than it has been seen) the heading is
+        // held: the interval allows for the whole turn. The elevation, held at every horizon
+        // however steadily it moves, likewise.
+        let trend = Trend {
+            rate: [0.0, 0.0, 0.0, 0.5, 0.1],
+            significance: [0.0, 0.0, 0.0, 20.0, 20.0],
+            scatter: [0.01, 0.01, 0.01, 0.05, 0.02],
+            seen: 1.2,
+            flipped: false,
+        };
+        let mut check = SelfCheck::new(25.0);
+        check.set_steady(trend.steady(), trend.seen);
+        for (h, rate) in [(0.4, 0.5 / 20.0), (1.0, 0.5 / 20.0), (2.0, 0.5)] {
+            let w = check.unchecked_half_width(&trend, h).unwrap();
+            let expected = INTERVAL_80[AZIMUTH] * 0.05f64.hypot(rate * h);
+            assert!((w[AZIMUTH] - expected).abs() < 1e-12, "{h}: {w:?}");
+            let expected = INTERVAL_80[ELEVATION] * 0.02f64.hypot(0.1 * h);
+            assert!((w[ELEVATION] - expected).abs() < 1e-12, "{h}: {w:?}");
+        }
     }
 
     #[test]

@@ -147,18 +147,17 @@ impl Trend {
 
     /// Per component, how far a forecast `horizon` seconds ahead may err by what this history
     /// alone says (before any forecast of the track has been checked): the scatter about the
-    /// line (the estimates' noise) with, for a steady component, its rate's standard error over
-    /// the horizon, and for any other the whole fitted motion over the horizon (held still, it
-    /// is what the forecast misses if the motion goes on). `None` for a history too short to
-    /// fit.
-    pub fn spread(&self, horizon: f64) -> Option<Pose> {
+    /// line (the estimates' noise) with, for a component whose forecast continues the line
+    /// (`continued`), its rate's standard error over the horizon, and for one held still the
+    /// whole fitted motion over the horizon (what holding misses if the motion goes on). `None`
+    /// for a history too short to fit.
+    pub fn spread(&self, horizon: f64, continued: [bool; 5]) -> Option<Pose> {
         if self.seen == 0.0 {
             return None;
         }
-        let steady = self.steady();
         Some(std::array::from_fn(|c| {
             let s = self.significance[c];
-            let rate = if !steady[c] {
+            let rate = if !continued[c] {
                 self.rate[c].abs()
             } else if s.is_finite() {
                 self.rate[c].abs() / s
@@ -234,16 +233,19 @@ mod tests {
         assert!(!trend.steady()[0] && trend.steady()[AZIMUTH]);
         let sxx: f64 = 50.0 * (50.0 * 50.0 - 1.0) / 12.0;
         let h = 2.0;
-        let spread = trend.spread(h).unwrap();
+        let spread = trend.spread(h, trend.steady()).unwrap();
         let (b, t, _) = by_hand(&xs);
         let scatter = (b / t).abs() * sxx.sqrt();
         assert!((spread[0] - scatter.hypot(25.0 * b.abs() * h)).abs() < 1e-12);
         let (b, t, _) = by_hand(&azimuths);
         let scatter = (b / t).abs() * sxx.sqrt();
         assert!((spread[AZIMUTH] - scatter.hypot(25.0 * (b / t).abs() * h)).abs() < 1e-12);
+        // Held still instead of continued, the forecast misses the whole fitted turn.
+        let held = trend.spread(h, [false; 5]).unwrap();
+        assert!((held[AZIMUTH] - scatter.hypot(25.0 * b.abs() * h)).abs() < 1e-12);
         // A history too short for a line says nothing.
         assert_eq!(
-            Trend::of(&history((0..3).map(|_| [0.0; 5]))).spread(h),
+            Trend::of(&history((0..3).map(|_| [0.0; 5]))).spread(h, [true; 5]),
             None
         );
     }

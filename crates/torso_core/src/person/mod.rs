@@ -34,7 +34,7 @@ use crate::error::{Error, Result};
 use crate::forecaster::Forecaster;
 use crate::gating::{JointGate, JointStatus};
 use crate::plane::{fit_torso_plane, shoulder_heading};
-use crate::selfcheck::{unchecked_half_width, SelfCheck, HORIZONS as CHECK_HORIZONS};
+use crate::selfcheck::{SelfCheck, HORIZONS as CHECK_HORIZONS};
 use crate::sides::{Cues, Facing};
 use crate::trend::Trend;
 use crate::vec3::{add, finite, midpoint, sub};
@@ -294,7 +294,7 @@ impl Person {
     /// errors, times the multiple of it that covered 80 % of them
     /// ([`SelfCheck::half_width`](crate::selfcheck::SelfCheck::half_width)); before the track
     /// has checked a forecast, what the line through its history says a forecast may err
-    /// ([`unchecked_half_width`]). `Ok(false)` (and
+    /// ([`SelfCheck::unchecked_half_width`]). `Ok(false)` (and
     /// `out` untouched) while the history is too short for a line, or without the self-check.
     pub fn intervals(&self, horizons: &[f64], out: &mut [Pose]) -> Result<bool> {
         if out.len() != horizons.len() {
@@ -317,8 +317,11 @@ impl Person {
         // Nothing checked yet: what the line through the history says, where it says something
         // finite (absurd coordinates can overflow it).
         let trend = self.trend.unwrap_or_else(|| Trend::of(&self.forecaster));
-        let usable =
-            |h: f64| unchecked_half_width(&trend, h).filter(|w| w.iter().all(|v| v.is_finite()));
+        let usable = |h: f64| {
+            check
+                .unchecked_half_width(&trend, h)
+                .filter(|w| w.iter().all(|v| v.is_finite()))
+        };
         if !horizons.iter().all(|&h| usable(h).is_some()) {
             return Ok(false);
         }
