@@ -31,6 +31,7 @@
 use crate::quantile::RecentQuantile;
 use crate::trend::Trend;
 use crate::{Pose, AZIMUTH, ELEVATION};
+use std::f64::consts::PI;
 
 /// Time constant (s) with which old scores are forgotten.
 const MEMORY: f64 = 2.0;
@@ -55,6 +56,19 @@ pub const COVERAGE: f64 = 0.8;
 /// ([`PersonConfig::surface_depth`](crate::PersonConfig::surface_depth)): the offset it had
 /// made up for is gone.
 pub const INTERVAL_80: [f64; 5] = [2.0, 2.0, 2.0, 1.9, 1.6];
+/// An angle's half-width taken at most half a turn: a wider interval holds every direction
+/// too, and half a turn says so in a number a robot can read (an interval of several turns
+/// reads as a broken one). Coverage does not change: an angle's error is at most half a turn.
+fn within_half_turn(half_width: [f64; 5]) -> [f64; 5] {
+    std::array::from_fn(|c| {
+        if c >= AZIMUTH && half_width[c] > PI {
+            PI
+        } else {
+            half_width[c]
+        }
+    })
+}
+
 /// The candidates: hold still, damped trend, plain trend, constant velocity over the history.
 pub const CANDIDATES: usize = 4;
 /// The horizons (s) checked: the thesis' 0.4, 1 and 2 s.
@@ -367,27 +381,30 @@ impl SelfCheck {
         let k = self.checked(horizon)?;
         let spread = self.spread_of(horizon, k, &self.weights(horizon));
         let own = k == self.nearest(horizon);
-        Some(std::array::from_fn(|c| {
+        Some(within_half_turn(std::array::from_fn(|c| {
             let multiple = if own {
                 self.tails[k][c].quantile(COVERAGE, INTERVAL_80[c], MIN_SCORED)
             } else {
                 INTERVAL_80[c]
             };
             multiple * spread[c]
-        }))
+        })))
     }
 
     /// Per component, the half-width of an interval meant to hold the pose `horizon` seconds
     /// ahead before the track has checked a forecast: [`INTERVAL_80`] times what `trend`, the
     /// line through the track's history, says the forecast given then may err
     /// ([`Trend::spread`]): a component whose prior at that horizon continues the line, by the
-    /// line's rate uncertain; one held still (a steady turn further ahead than it has been seen,
-    /// the elevation), by the whole fitted motion. `None` for a history too short to fit.
+    /// uncertainty of the line's rate; one held still (a steady turn further ahead than it has
+    /// been seen, the elevation), by the whole fitted motion. `None` for a history too short to
+    /// fit.
     pub fn unchecked_half_width(&self, trend: &Trend, horizon: f64) -> Option<[f64; 5]> {
         let k = self.nearest(horizon);
         let continued = std::array::from_fn(|c| self.prior(c, k) == VELOCITY);
         let spread = trend.spread(horizon, continued)?;
-        Some(std::array::from_fn(|c| INTERVAL_80[c] * spread[c]))
+        Some(within_half_turn(std::array::from_fn(|c| {
+            INTERVAL_80[c] * spread[c]
+        })))
     }
 
     /// Whether [`spread`](Self::spread) has an answer for `horizon` (without computing it).
@@ -748,6 +765,35 @@ mod tests {
             let expected = INTERVAL_80[ELEVATION] * 0.02f64.hypot(0.1 * h);
             assert!((w[ELEVATION] - expected).abs() < 1e-12, "{h}: {w:?}");
         }
+    }
+
+    #[test]
+    fn an_angle_interval_is_at_most_half_a_turn() {
+        // Estimates that swing by 3 rad (and 10 m) about the forecasts every 0.4 s: the spread
+        // times the multiple is well over half a turn, and says no more than half a turn does.
+        let mut check = SelfCheck::new(25.0);
+        for k in 0..60 {
+            let t = k as f64 / 25.0;
+            let swing = if (k / 10) % 2 == 0 { 1.0 } else { -1.0 };
+            let sample = [10.0 * swing, 0.0, 1.0, 3.0 * swing, 1.5];
+            let forecast = [[0.0, 0.0, 1.0, 0.0, 1.5]; 3];
+            check.record(t, sample, &forecast, &forecast, &forecast);
+        }
+        let spread = check.spread(0.4).unwrap();
+        assert!(INTERVAL_80[AZIMUTH] * spread[AZIMUTH] > PI, "{spread:?}");
+        let half = check.half_width(0.4).unwrap();
+        assert_eq!(half[AZIMUTH], PI);
+        assert!(half[0] > 10.0); // a distance has no such bound
+        let trend = Trend {
+            rate: [0.0, 0.0, 0.0, 5.0, 0.0],
+            scatter: [0.01; 5],
+            seen: 1.0,
+            ..Trend::default()
+        };
+        let unchecked = SelfCheck::new(25.0)
+            .unchecked_half_width(&trend, 2.0)
+            .unwrap();
+        assert_eq!(unchecked[AZIMUTH], PI);
     }
 
     #[test]

@@ -294,7 +294,7 @@ impl Person {
     /// errors, times the multiple of it that covered 80 % of them
     /// ([`SelfCheck::half_width`](crate::selfcheck::SelfCheck::half_width)); before the track
     /// has checked a forecast, what the line through its history says a forecast may err
-    /// ([`SelfCheck::unchecked_half_width`]). `Ok(false)` (and
+    /// ([`SelfCheck::unchecked_half_width`]); an angle's at most half a turn. `Ok(false)` (and
     /// `out` untouched) while the history is too short for a line, or without the self-check.
     pub fn intervals(&self, horizons: &[f64], out: &mut [Pose]) -> Result<bool> {
         if out.len() != horizons.len() {
