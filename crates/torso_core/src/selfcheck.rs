@@ -11,22 +11,21 @@
 //! that would have erred least on the recent scores (the minimum-variance convex weights of
 //! correlated predictors, from forgetting sums of their products of errors).
 //!
-//! Each component has a prior candidate, the one it forecasts with before any check: holding
-//! still, unless the track's history shows the component moving steadily: then constant
-//! velocity (a walk, a steady turn), for the azimuth only for horizons no longer than the
-//! history it was seen over, or where continuing the turn has already come true at every
-//! shorter checked horizon (a walk mostly goes on; a turn is continued further ahead than it
-//! has been seen to last only once the track's own forecasts have shown it going on), and a
-//! turn only while it is still coming true (continuing it has missed by less than holding still
-//! in at least half of the recent scores at the shortest horizon: a turn that has stopped stays
-//! in the history's line for as long as the history holds it); the elevation always holds
-//! still. A component's mix
-//! takes another candidate than its prior only when that one's gain over the prior (the
-//! difference of their squared errors) is significant: its mean [`SIGNIFICANCE`] standard
-//! errors above zero, counting the scores of one horizon's span as one (overlapping forecasts
-//! err together). A detector's noise makes most fitted trends of an angle, or of a person who
-//! stays in place, a guess, and a guess that wins a few recent scores by chance would otherwise
-//! be continued. The centre of a steady walk is the exception: it mixes its trends freely.
+//! Each component has a prior candidate, the one it forecasts with before any check: holding still,
+//! unless the track's history shows the component moving steadily: then constant velocity (a walk,
+//! a steady turn), for the azimuth only for horizons no longer than the history it was seen over,
+//! or where continuing the turn has already come true at every shorter checked horizon (a walk
+//! mostly goes on; a turn is continued further ahead than it has been seen to last only once the
+//! track's own forecasts have shown it going on), and a turn only while it is still coming true
+//! (continuing it has missed by less than holding still in at least half of the recent scores at
+//! the shortest horizon: a turn that has stopped stays in the history's line for as long as the
+//! history holds it); the elevation always holds still. A component's mix takes another candidate
+//! than its prior only when that one's gain over the prior (the difference of their squared errors)
+//! is significant: its mean [`SIGNIFICANCE`] standard errors above zero, counting the scores of one
+//! horizon's span as one (overlapping forecasts err together). A detector's noise makes most fitted
+//! trends of an angle, or of a person who stays in place, a guess, and a guess that wins a few
+//! recent scores by chance would otherwise be continued. The centre of a steady walk is the
+//! exception: it mixes its trends freely.
 
 use crate::quantile::RecentQuantile;
 use crate::trend::Trend;
