@@ -4,6 +4,7 @@ one person at a known pose recovered through the real chain, the scoring rules, 
 
 import csv
 import json
+import math
 import re
 import subprocess
 import sys
@@ -520,6 +521,12 @@ def test_eval_scenes_quick_runs_and_its_numbers_come_back_for_the_seed(tmp_path,
         assert turning[h]["forecast_azimuth_median"] < 0.95 * turning[h]["hold_azimuth_median"]
     for row in tables["forecasts"]["all"]:
         assert row["forecast_elevation_median"] == pytest.approx(row["hold_elevation_median"], abs=0.1)
+    # An angle's 80 % interval is at most half a turn: a wider one would hold every direction
+    # too (the tracks whose errors are wildest reach it here).
+    with open(tmp_path / "forecasts.csv") as f:
+        widths = [float(r[f"half_width_{c}"]) for r in csv.DictReader(f) for c in ("azimuth", "elevation")]
+    widths = [w for w in widths if math.isfinite(w)]
+    assert max(widths) == pytest.approx(math.pi)
     for name in ("scenes_view_polar.png", "scenes_horizon.png", "scenes_frame.png"):
         assert (tmp_path / "figures" / name).stat().st_size > 5000
     # One scene again from its spec: the same records, number for number.
