@@ -8,7 +8,9 @@
 //! carry the heading a quarter turn round and the next onto the back) and weighs, with a memory
 //! of a second or so, four cues to whether that heading or its opposite is the chest's:
 //!
-//! - the labels: the labelled plane's normal on the heading's side or the opposite one;
+//! - the labels: the labelled plane's normal on the heading's side or the opposite one (in a
+//!   frame where the track moved a far torso joint back to its depth from the last pose, only a
+//!   pair measured as read: the moved pair's normal points where the last pose did);
 //! - the face: the nose, seen in front and profile views, stands in front of the shoulders;
 //! - the knees: a knee bends forwards only, so a bent knee stands in front of the line from its
 //!   hip to its ankle; this reads where the keypoints are, not how they are labelled, so it
@@ -22,7 +24,8 @@
 //! line lies far across the recent heading (a bad plane). The decision owns the side of the pose
 //! the track reports ([`Facing::opposes`]), the plane fitted after the gate only its line.
 
-use crate::coco::{self, Joints};
+use crate::coco::{self, Joints, N_JOINTS};
+use crate::plane::shoulder_heading;
 use crate::vec3::{distance, finite};
 use std::f64::consts::{FRAC_PI_4, PI};
 
@@ -87,8 +90,12 @@ impl Default for FacingConfig {
 /// What one frame's joints say of the heading; see [`Cues::of`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Cues {
-    /// Azimuth of the torso plane's normal (or the shoulder line's) as the detector labelled it.
+    /// Azimuth of the torso plane's normal (or the shoulder line's) as the detector labelled it:
+    /// the frame's torso line, and the side the labels put the chest on.
     pub labelled: f64,
+    /// The azimuth the labels vote for ([`label_vote`]): `labelled`, or where the track moved a
+    /// far torso joint back to its depth, the normal of a pair measured as read; `None`, no vote.
+    pub label_vote: Option<f64>,
     /// The torso's centre (m).
     pub centre: [f64; 3],
     /// Horizontal direction from the shoulders to the nose, where it stands out ([`nose_direction`]).
@@ -99,10 +106,17 @@ pub struct Cues {
 
 impl Cues {
     /// The cues of a frame's `joints` (NaN where not seen), given the azimuth and centre of
-    /// their labelled torso plane.
-    pub fn of(joints: &Joints, labelled: f64, centre: [f64; 3]) -> Self {
+    /// their labelled torso plane and which joints' depths the track `completed` (moved back
+    /// from the near side of the body, [`crate::person`]).
+    pub fn of(
+        joints: &Joints,
+        labelled: f64,
+        centre: [f64; 3],
+        completed: &[bool; N_JOINTS],
+    ) -> Self {
         Self {
             labelled,
+            label_vote: label_vote(joints, labelled, completed),
             centre,
             nose: nose_direction(joints),
             knees: knee_direction(joints),
@@ -115,7 +129,7 @@ impl Cues {
 /// ```
 /// use torso_core::sides::{Cues, Facing, FacingConfig};
 /// let mut facing = Facing::default();
-/// let cues = Cues { labelled: 0.3, centre: [2.0, 0.0, 1.0], nose: None, knees: None };
+/// let cues = Cues { labelled: 0.3, label_vote: Some(0.3), centre: [2.0, 0.0, 1.0], nose: None, knees: None };
 /// let first = facing.decide(0.0, &cues, &FacingConfig::default());
 /// // A new track takes the labels as they are.
 /// assert!(!first.exchange && !first.turned && (first.heading - 0.3).abs() < 1e-12);
@@ -144,13 +158,14 @@ pub struct Decision {
 /// ```
 /// use torso_core::sides::{Cues, Facing, FacingConfig};
 /// let (mut facing, config) = (Facing::default(), FacingConfig::default());
-/// let cues = Cues { labelled: 0.0, centre: [2.0, 0.0, 1.0], nose: None, knees: None };
+/// let cues = Cues { labelled: 0.0, label_vote: Some(0.0), centre: [2.0, 0.0, 1.0], nose: None, knees: None };
 /// for k in 0..25 {
 ///     facing.decide(k as f64 * 0.04, &cues, &config);
 /// }
 /// // After a second of labels facing +x, one frame that says the opposite has its labels
 /// // exchanged back; the track does not turn round.
-/// let opposite = Cues { labelled: std::f64::consts::PI, ..cues };
+/// let pi = std::f64::consts::PI;
+/// let opposite = Cues { labelled: pi, label_vote: Some(pi), ..cues };
 /// let once = facing.decide(1.0, &opposite, &config);
 /// assert!(once.exchange && !once.turned && once.heading == 0.0);
 /// ```
@@ -177,7 +192,7 @@ impl Facing {
     /// use torso_core::sides::{Cues, Facing, FacingConfig};
     /// let mut facing = Facing::default();
     /// assert!(!facing.opposes(3.0));
-    /// let cues = Cues { labelled: 0.0, centre: [2.0, 0.0, 1.0], nose: None, knees: None };
+    /// let cues = Cues { labelled: 0.0, label_vote: Some(0.0), centre: [2.0, 0.0, 1.0], nose: None, knees: None };
     /// facing.decide(0.0, &cues, &FacingConfig::default());
     /// assert!(facing.opposes(3.0) && !facing.opposes(0.3));
     /// // A line across the heading says nothing of the side.
@@ -192,6 +207,7 @@ impl Facing {
     pub fn decide(&mut self, t: f64, cues: &Cues, config: &FacingConfig) -> Decision {
         let Cues {
             labelled,
+            label_vote,
             centre,
             nose,
             knees,
@@ -224,7 +240,7 @@ impl Facing {
         self.last = Some((t, [centre[0], centre[1]]));
         let unit = dt / UNIT_STEP;
         let agrees = |direction: f64| (direction - candidate).cos().signum();
-        let mut vote = agrees(labelled);
+        let mut vote = label_vote.map_or(0.0, agrees);
         if let Some(n) = nose {
             vote += config.face_weight * agrees(n);
         }
@@ -281,6 +297,28 @@ fn near(heading: f64, recent: [f64; 2]) -> bool {
     along >= MAX_CONFIDENT_TURN.cos() * recent[0].hypot(recent[1])
 }
 
+/// The azimuth the detector's labels vote for: the labelled plane's normal `labelled`, unless
+/// the track moved a far torso joint back along its camera ray (`completed`). It moves the joint
+/// on the side the last pose turned away from the camera, and a pair so completed has its normal
+/// where the last pose had it, whatever the labels say: its vote would be the track agreeing
+/// with itself (in profile views, frame after frame, holding a wrong heading as firmly as a
+/// right one). There the shoulders, else the hips, measured as read and both seen vote with
+/// their own normal; without such a pair the labels do not vote.
+pub fn label_vote(joints: &Joints, labelled: f64, completed: &[bool; N_JOINTS]) -> Option<f64> {
+    if !coco::TORSO.iter().any(|&i| completed[i]) {
+        return Some(labelled);
+    }
+    [
+        (coco::LEFT_SHOULDER, coco::RIGHT_SHOULDER),
+        (coco::LEFT_HIP, coco::RIGHT_HIP),
+    ]
+    .into_iter()
+    .filter(|&(l, r)| !completed[l] && !completed[r])
+    // A pair's normal is the shoulder line's, whichever pair it is.
+    .find_map(|(l, r)| shoulder_heading(joints[l], joints[r]).ok())
+    .map(|pair| pair.azimuth)
+}
+
 /// Horizontal direction (azimuth) from the shoulders' midpoint to the nose, where the nose and
 /// both shoulders are seen (finite) and the nose stands out at least `MIN_NOSE_OFFSET`.
 pub fn nose_direction(joints: &Joints) -> Option<f64> {
@@ -333,7 +371,6 @@ fn direction(offset: [f64; 2], min: f64) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::coco::N_JOINTS;
 
     fn error(a: f64, b: f64) -> f64 {
         crate::person::wrap_angle(a - b).abs()
@@ -342,10 +379,33 @@ mod tests {
     fn cues(labelled: f64, centre: [f64; 3], nose: Option<f64>) -> Cues {
         Cues {
             labelled,
+            label_vote: Some(labelled),
             centre,
             nose,
             knees: None,
         }
+    }
+
+    #[test]
+    fn a_pair_the_track_completed_casts_no_label_vote() {
+        let mut joints = [[f64::NAN; 3]; N_JOINTS];
+        // Shoulders facing +x; hips turned to face -45 degrees.
+        joints[coco::LEFT_SHOULDER] = [2.0, 0.2, 1.4];
+        joints[coco::RIGHT_SHOULDER] = [2.0, -0.2, 1.4];
+        joints[coco::LEFT_HIP] = [2.1, 0.1, 0.9];
+        joints[coco::RIGHT_HIP] = [1.9, -0.1, 0.9];
+        let completed = |list: &[usize]| {
+            let mut c = [false; N_JOINTS];
+            list.iter().for_each(|&i| c[i] = true);
+            c
+        };
+        let vote = |list: &[usize]| label_vote(&joints, 0.3, &completed(list));
+        assert_eq!(vote(&[]), Some(0.3));
+        assert!(error(vote(&[coco::LEFT_HIP]).unwrap(), 0.0) < 1e-12);
+        assert!(error(vote(&[coco::RIGHT_SHOULDER]).unwrap(), -FRAC_PI_4) < 1e-12);
+        assert_eq!(vote(&[coco::RIGHT_SHOULDER, coco::LEFT_HIP]), None);
+        // A joint outside the torso moved back says nothing of the labels.
+        assert_eq!(vote(&[coco::NOSE]), Some(0.3));
     }
 
     #[test]

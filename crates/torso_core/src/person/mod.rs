@@ -184,7 +184,7 @@ impl Person {
         let mut completed = self.complete_occluded(&mut joints, camera_position);
         let decision = labelled_heading(&joints)
             .map(|(labelled, centre)| {
-                let cues = Cues::of(&joints, labelled, centre);
+                let cues = Cues::of(&joints, labelled, centre, &completed);
                 self.facing.decide(t, &cues, &self.config.facing)
             })
             .unwrap_or_default();
@@ -926,6 +926,40 @@ mod tests {
         // the far joints land where they are (the widths were learned exactly).
         assert!(run(0.0) > 10.0, "{}", run(0.0));
         assert!(run(0.8) < 1e-6, "{}", run(0.8));
+    }
+
+    #[test]
+    fn a_profile_views_completed_pairs_do_not_confirm_the_heading() {
+        // Facing the camera, then turning left into a profile view and staying there, the face
+        // out of view. Each far joint, read at the near side's depth, is moved back on the side
+        // the last pose turned away, so the labelled plane faces where the last pose did
+        // whatever the labels say: those labels do not vote, and the evidence of the frontal
+        // frames fades instead of being built up again by the track agreeing with itself (to
+        // about a second's worth, what the labels alone build).
+        let mut track = Person::new(centres_given()).unwrap();
+        let mut last = None;
+        for k in 0..100 {
+            let yaw = PI + (2.0 * k.min(45) as f64).to_radians();
+            let (mut joints, mut scores) = person([2.0, 0.0, 1.0], yaw, true);
+            let profile = yaw.cos().abs() < 0.6;
+            if profile {
+                occlude_far_side(&mut joints, yaw);
+                scores[NOSE] = 0.0; // no other cue
+            }
+            let obs = track
+                .update(k as f64 / 25.0, &joints, &scores, CAMERA)
+                .unwrap();
+            assert_eq!(
+                obs.completed.iter().filter(|&&c| c).count(),
+                2 * usize::from(profile)
+            );
+            last = Some(obs);
+        }
+        let last = last.unwrap();
+        assert!(last.facing_evidence < 0.25, "{}", last.facing_evidence);
+        // With no vote the heading holds.
+        let yaw = PI + 90f64.to_radians();
+        assert!(angle_error(last.pose.unwrap()[AZIMUTH], yaw) < 1e-6);
     }
 
     #[test]
