@@ -316,18 +316,16 @@ impl Person {
         }
         // Nothing checked yet: what the line through the history says, where it says something
         // finite (absurd coordinates can overflow it).
+        // Every horizon's first, so that a refusal leaves `out` untouched.
         let trend = self.trend.unwrap_or_else(|| Trend::of(&self.forecaster));
-        let usable = |h: f64| {
-            check
-                .unchecked_half_width(&trend, h)
-                .filter(|w| w.iter().all(|v| v.is_finite()))
-        };
-        if !horizons.iter().all(|&h| usable(h).is_some()) {
-            return Ok(false);
+        let mut widths = [[0.0; 5]; MAX_HORIZONS];
+        for (&h, w) in horizons.iter().zip(widths.iter_mut()) {
+            match check.unchecked_half_width(&trend, h) {
+                Some(width) if width.iter().all(|v| v.is_finite()) => *w = width,
+                _ => return Ok(false),
+            }
         }
-        for (h, o) in horizons.iter().zip(out.iter_mut()) {
-            *o = usable(*h).expect("checked above");
-        }
+        out.copy_from_slice(&widths[..horizons.len()]);
         Ok(true)
     }
 
