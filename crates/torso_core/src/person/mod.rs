@@ -315,8 +315,8 @@ impl Person {
             return Ok(true);
         }
         // Nothing checked yet: what the line through the history says, where it says something
-        // finite (absurd coordinates can overflow it).
-        // Every horizon's first, so that a refusal leaves `out` untouched.
+        // finite (absurd coordinates can overflow it); every horizon's before any is written, so
+        // that a refusal leaves `out` untouched.
         let trend = self.trend.unwrap_or_else(|| Trend::of(&self.forecaster));
         let mut widths = [[0.0; 5]; MAX_HORIZONS];
         for (&h, w) in horizons.iter().zip(widths.iter_mut()) {
