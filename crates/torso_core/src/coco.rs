@@ -27,6 +27,9 @@ pub const RIGHT_ANKLE: usize = 16;
 pub const TORSO: [usize; 4] = [LEFT_SHOULDER, RIGHT_SHOULDER, LEFT_HIP, RIGHT_HIP];
 /// Their sides of the body, for [`crate::fit_torso_plane`].
 pub const TORSO_SIDES: [Side; 4] = [Side::Left, Side::Right, Side::Left, Side::Right];
+/// The torso's `(left, right)` pairs, shoulders first, then hips.
+pub const TORSO_PAIRS: [(usize, usize); 2] =
+    [(LEFT_SHOULDER, RIGHT_SHOULDER), (LEFT_HIP, RIGHT_HIP)];
 
 /// `(left, right)` index pairs: eyes, ears, shoulders, elbows, wrists, hips, knees, ankles.
 pub const LEFT_RIGHT_PAIRS: [(usize, usize); 8] = [

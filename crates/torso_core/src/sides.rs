@@ -308,15 +308,12 @@ pub fn label_vote(joints: &Joints, labelled: f64, completed: &[bool; N_JOINTS]) 
     if !coco::TORSO.iter().any(|&i| completed[i]) {
         return Some(labelled);
     }
-    [
-        (coco::LEFT_SHOULDER, coco::RIGHT_SHOULDER),
-        (coco::LEFT_HIP, coco::RIGHT_HIP),
-    ]
-    .into_iter()
-    .filter(|&(l, r)| !completed[l] && !completed[r])
-    // A pair's normal is the shoulder line's, whichever pair it is.
-    .find_map(|(l, r)| shoulder_heading(joints[l], joints[r]).ok())
-    .map(|pair| pair.azimuth)
+    coco::TORSO_PAIRS
+        .into_iter()
+        .filter(|&(l, r)| !completed[l] && !completed[r])
+        // A pair's normal is the shoulder line's, whichever pair it is.
+        .find_map(|(l, r)| shoulder_heading(joints[l], joints[r]).ok())
+        .map(|pair| pair.azimuth)
 }
 
 /// Horizontal direction (azimuth) from the shoulders' midpoint to the nose, where the nose and

@@ -83,7 +83,7 @@ pub struct Person {
     centre_offset: Option<[f64; 3]>,
     /// Last pose, for the elevation that a shoulders-only frame holds.
     last_pose: Option<Pose>,
-    /// Shoulder and hip widths learned in frontal and dorsal views.
+    /// Shoulder and hip widths learned in frontal and dorsal views ([`coco::TORSO_PAIRS`]).
     widths: [Option<f64>; 2],
     facing: Facing,
     check: Option<SelfCheck>,
@@ -521,7 +521,7 @@ pub fn wrap_angle(angle: f64) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::occlusion::{behind_on_ray, PAIRS};
+    use super::occlusion::behind_on_ray;
     use super::*;
     use crate::coco::{LEFT_HIP, LEFT_SHOULDER, NOSE, RIGHT_HIP, RIGHT_SHOULDER};
     use crate::sides::FacingConfig;
@@ -886,7 +886,7 @@ mod tests {
     /// what a depth camera reports when the body hides the far shoulder and hip.
     fn occlude_far_side(joints: &mut Joints, yaw: f64) {
         let left_is_near = -yaw.sin() * -2.0 > 0.0; // left · (camera - centre), person at x = 2
-        for (l, r) in PAIRS {
+        for (l, r) in coco::TORSO_PAIRS {
             let (near, far) = if left_is_near { (l, r) } else { (r, l) };
             let scale = joints[near][0] / joints[far][0]; // camera at the origin looking along +x
             joints[far] = joints[far].map(|v| v * scale);

@@ -8,7 +8,7 @@
 //! altogether is dropped before this, [`crate::stray`].)
 
 use super::Person;
-use crate::coco::{self, Joints, N_JOINTS, TORSO};
+use crate::coco::{Joints, N_JOINTS, TORSO, TORSO_PAIRS};
 use crate::vec3::{add, distance, dot, finite, midpoint, norm, sub};
 use crate::AZIMUTH;
 
@@ -30,12 +30,6 @@ const WIDTH_PER_TORSO_LENGTH: [f64; 2] = [0.68, 0.44];
 /// Weight of a new frontal frame in the learned widths (an exponential mean over about ten
 /// frames).
 const WIDTH_RATE: f64 = 0.1;
-
-/// The torso's left/right pairs whose widths are learned: shoulders, hips.
-pub(super) const PAIRS: [(usize, usize); 2] = [
-    (coco::LEFT_SHOULDER, coco::RIGHT_SHOULDER),
-    (coco::LEFT_HIP, coco::RIGHT_HIP),
-];
 
 impl Person {
     /// In a profile view the far shoulder (or hip) is hidden behind the body: the detector still
@@ -64,7 +58,7 @@ impl Person {
             .iter()
             .all(finite)
             .then(|| distance(midpoint(torso[0], torso[1]), midpoint(torso[2], torso[3])));
-        for (((l, r), width), per_length) in PAIRS
+        for (((l, r), width), per_length) in TORSO_PAIRS
             .iter()
             .zip(self.widths.iter_mut())
             .zip(WIDTH_PER_TORSO_LENGTH)
