@@ -425,8 +425,9 @@ class Tracker:
     ) -> tuple[_F64, list[TrackOutcome]]:
         """One frame of 2D ``keypoints (people, 17, 3)`` ``(u, v, score)`` with the ``(h, w)``
         depth image (m) registered to them, the intrinsics ``(fx, fy, cx, cy)``, Brown-Conrady
-        ``(k1, k2, p1, p2, k3)`` and the 4x4 ``camera_to_world``: the lifted world joints and
-        each detection's outcome. A refused frame raises and changes nothing."""
+        ``(k1, k2, p1, p2, k3)`` and the 4x4 ``camera_to_world``: the lifted world joints as
+        the tracks took them (NaN where unseen, without depth, or lifted onto someone nearer the
+        camera) and each detection's outcome. A refused frame raises and changes nothing."""
     @property
     def tracks(self) -> list[TrackState]:
         """The confirmed tracks, in order of birth."""

@@ -7,9 +7,12 @@
 //! association gate. Both the track ([`crate::Person`]) and the association
 //! ([`crate::tracker::detection_centre`]) take the torso joints through [`drop_stray`] first;
 //! to the track, a dropped joint is one not seen, whose last position the gate carries along
-//! with the body.
+//! with the body. Before that, the tracker drops the joints a detection shows on the torso of
+//! someone nearer the camera ([`drop_read_off_nearer`]), which no rule within one torso can
+//! tell: every torso joint of a person hidden behind others can lift onto them.
 
 use crate::coco::{Joints, TORSO};
+use crate::tracker::MIN_SEPARATION;
 use crate::vec3::{distance, finite};
 
 /// The farthest (m) a torso joint may lie, horizontally, from the median of the other three: a
@@ -100,6 +103,49 @@ pub fn drop_stray(joints: &mut Joints, camera: [f64; 3]) -> [bool; 4] {
     dropped
 }
 
+/// Drops (NaN) the joints of one detection, whose torso centre is `centre`, that lie,
+/// horizontally, within [`MIN_SEPARATION`] of the torso centre of a person nearer the camera
+/// (`nearer`: their centres); returns how many were dropped. A person partly hidden by someone
+/// in front has keypoints on the front person's body in the image, and their depth lifts them
+/// onto it, where no joint of another body lies (two people shoulder to shoulder have their
+/// torso centres a shoulder width apart, each shoulder joint half of one from its own). Where
+/// every torso joint lifts onto people in front, [`drop_stray`] keeps them all, and the
+/// detection's centre lands among those people, a metre or more from the person's own. A
+/// centre within [`MIN_SEPARATION`] of `centre` is passed over: that is one body seen twice,
+/// which the tracker gives no second track.
+///
+/// ```
+/// use torso_core::stray::drop_read_off_nearer;
+/// use torso_core::coco::{N_JOINTS, LEFT_SHOULDER, RIGHT_SHOULDER};
+/// // Seen 2.6 m ahead, its left shoulder on the torso of a person 2 m ahead.
+/// let mut joints = [[f64::NAN; 3]; N_JOINTS];
+/// joints[LEFT_SHOULDER] = [2.0, 0.1, 1.4];
+/// joints[RIGHT_SHOULDER] = [2.6, 0.6, 1.4];
+/// let front = [2.05, 0.0, 1.1];
+/// assert_eq!(drop_read_off_nearer(&mut joints, [2.6, 0.4, 1.1], [front]), 1);
+/// assert!(joints[LEFT_SHOULDER][0].is_nan() && joints[RIGHT_SHOULDER][0] == 2.6);
+/// ```
+pub fn drop_read_off_nearer(
+    joints: &mut Joints,
+    centre: [f64; 3],
+    nearer: impl IntoIterator<Item = [f64; 3]>,
+) -> usize {
+    let horizontal = |p: &[f64; 3], q: &[f64; 3]| (p[0] - q[0]).hypot(p[1] - q[1]);
+    let mut dropped = 0;
+    for front in nearer {
+        if !(distance(front, centre) >= MIN_SEPARATION) {
+            continue;
+        }
+        for x in joints.iter_mut().filter(|x| finite(x)) {
+            if horizontal(x, &front) < MIN_SEPARATION {
+                *x = [f64::NAN; 3];
+                dropped += 1;
+            }
+        }
+    }
+    dropped
+}
+
 /// Of four seen torso joints, the one lying farthest, horizontally, from the median of the other
 /// three, where that is more than [`MAX_TORSO_SPREAD`].
 fn farthest_from_the_others(joints: &Joints) -> Option<usize> {
@@ -135,6 +181,45 @@ mod tests {
         j[LEFT_HIP] = [x, -0.175, 0.9];
         j[RIGHT_HIP] = [x, 0.175, 0.9];
         j
+    }
+
+    /// [`torso`] moved `y` metres to the side.
+    fn beside(x: f64, y: f64) -> Joints {
+        let mut j = torso(x, 0.0);
+        for i in TORSO {
+            j[i][1] += y;
+        }
+        j
+    }
+
+    /// The mean of the seen torso joints.
+    fn centre(j: &Joints) -> [f64; 3] {
+        let seen: Vec<[f64; 3]> = TORSO.map(|i| j[i]).into_iter().filter(finite).collect();
+        std::array::from_fn(|k| seen.iter().map(|p| p[k]).sum::<f64>() / seen.len() as f64)
+    }
+
+    #[test]
+    fn joints_lifted_onto_someone_in_front_are_dropped_and_a_neighbours_are_kept() {
+        // Behind a person 2.85 m from the camera, a person 4.4 m away shows a shoulder and a hip
+        // on the front one's torso, read at its depth.
+        let front = beside(2.85, -0.2);
+        let mut joints = beside(4.4, -0.55);
+        joints[LEFT_SHOULDER] = [2.85, -0.3, 1.4];
+        joints[LEFT_HIP] = [2.85, -0.25, 0.9];
+        let seen = centre(&joints);
+        assert_eq!(drop_read_off_nearer(&mut joints, seen, [centre(&front)]), 2);
+        assert_eq!(
+            TORSO.map(|i| finite(&joints[i])),
+            [false, true, false, true]
+        );
+        // Side by side, broad shoulders 5 cm apart, and a body seen twice 5 cm off: nothing.
+        for other in [beside(2.85, 0.35), beside(2.9, -0.2)] {
+            let mut joints = other;
+            assert_eq!(
+                drop_read_off_nearer(&mut joints, centre(&other), [centre(&front)]),
+                0
+            );
+        }
     }
 
     #[test]

@@ -3,12 +3,14 @@
 //! [`Tracker::step`], the depth lookup and deprojection of the 2D keypoints too, so that one call
 //! per frame takes a detector's output and a depth image to poses.
 //!
-//! Each frame, the cost of giving detection `j` to track `i` is the distance between the track's
-//! last torso centre and the detection's; the optimal assignment ([`Assignment`]) is taken, and
-//! pairs further apart than `gate` are refused. An unmatched detection opens a tentative track,
-//! which is confirmed (and given the next id) after `min_hits` matched frames, unless it lies
-//! within [`MIN_SEPARATION`] of a detection a track took: the same body seen twice. A confirmed
-//! track unmatched for `max_missing` seconds is dropped, a tentative one at its first miss.
+//! Each frame, the joints a detection shows on someone nearer the camera are dropped first
+//! ([`crate::stray::drop_read_off_nearer`]). The cost of giving detection `j` to track `i` is
+//! the distance between the track's last torso centre and the detection's; the optimal
+//! assignment ([`Assignment`]) is taken, and pairs further apart than `gate` are refused. An
+//! unmatched detection opens a tentative track, which is confirmed (and given the next id)
+//! after `min_hits` matched frames, unless it lies within [`MIN_SEPARATION`] of a detection a
+//! track took: the same body seen twice. A confirmed track unmatched for `max_missing` seconds
+//! is dropped, a tentative one at its first miss.
 //!
 //! At most `capacity` tracks live at once and a frame holds at most `max_detections`
 //! detections; every buffer grows to those bounds at most, and a dropped track's [`Person`] is
@@ -44,6 +46,7 @@ use crate::coco::{Joints, N_JOINTS, TORSO};
 use crate::depth::{DepthImage, DepthLookup};
 use crate::error::{Error, Result};
 use crate::person::{Observation, Person, PersonConfig};
+use crate::stray::drop_read_off_nearer;
 use crate::vec3::{distance, finite};
 use crate::Pose;
 
@@ -219,6 +222,8 @@ pub struct Tracker {
     joints: Vec<Joints>,
     scores: Vec<[f64; N_JOINTS]>,
     centres: Vec<[f64; 3]>,
+    /// Detections nearest the camera first.
+    order: Vec<usize>,
     placeable: Vec<usize>,
     cost: Vec<f64>,
     matched: Vec<Option<usize>>,
@@ -241,6 +246,7 @@ impl Tracker {
             joints: Vec::with_capacity(d),
             scores: Vec::with_capacity(d),
             centres: Vec::with_capacity(d),
+            order: Vec::with_capacity(d),
             placeable: Vec::with_capacity(d),
             cost: Vec::with_capacity(c * d),
             matched: Vec::with_capacity(d),
@@ -430,14 +436,8 @@ impl Tracker {
     /// `scores`.
     fn track(&mut self, t: f64, camera_position: [f64; 3]) -> Result<&[Outcome]> {
         self.last_t = Some(t);
-        let person_config = self.config.person;
-        self.centres.clear();
-        self.centres.extend(
-            self.joints
-                .iter()
-                .zip(&self.scores)
-                .map(|(j, s)| detection_centre(j, s, &person_config, camera_position)),
-        );
+        self.place_detections(camera_position);
+        self.drop_read_off_nearer(camera_position);
         self.placeable.clear();
         self.placeable
             .extend((0..self.centres.len()).filter(|&d| self.centres[d][0].is_finite()));
@@ -500,6 +500,53 @@ impl Tracker {
             keep
         });
         Ok(&self.outcomes)
+    }
+
+    /// `centres[d]`: where detection `d` is, for association ([`detection_centre`]).
+    fn place_detections(&mut self, camera: [f64; 3]) {
+        let person = self.config.person;
+        self.centres.clear();
+        self.centres.extend(
+            self.joints
+                .iter()
+                .zip(&self.scores)
+                .map(|(j, s)| detection_centre(j, s, &person, camera)),
+        );
+    }
+
+    /// Drops the joints each detection shows on someone nearer the camera
+    /// ([`drop_read_off_nearer`]) and places it again without them, nearest first: a person
+    /// in front is placed from their own joints before anyone behind is judged against them,
+    /// so a detection lifted among the people in front takes nothing from them.
+    fn drop_read_off_nearer(&mut self, camera: [f64; 3]) {
+        let depth = |c: &[f64; 3]| {
+            let d = distance(*c, camera);
+            if d.is_finite() {
+                d
+            } else {
+                f64::INFINITY
+            }
+        };
+        self.order.clear();
+        self.order.extend(0..self.centres.len());
+        let centres = &self.centres;
+        self.order.sort_unstable_by(|&a, &b| {
+            depth(&centres[a])
+                .total_cmp(&depth(&centres[b]))
+                .then(a.cmp(&b))
+        });
+        let person = self.config.person;
+        for k in 1..self.order.len() {
+            let d = self.order[k];
+            if !finite(&self.centres[d]) {
+                break; // the rest have no centre either
+            }
+            let nearer = self.order[..k].iter().map(|&e| self.centres[e]);
+            if drop_read_off_nearer(&mut self.joints[d], self.centres[d], nearer) > 0 {
+                self.centres[d] =
+                    detection_centre(&self.joints[d], &self.scores[d], &person, camera);
+            }
+        }
     }
 
     /// `matched[d]`: the slot of the live track that detection `d` continues, if any.
@@ -695,6 +742,64 @@ mod tests {
             };
             let centre = detection_centre(&joints, &SEEN, &surface, [0.0; 3]);
             assert!((centre[0] - 4.0).abs() < 1e-9, "frame {k}: {centre:?}");
+        }
+    }
+
+    #[test]
+    fn a_person_lifted_among_the_people_in_front_opens_no_track_of_their_own() {
+        // Two people 2.85 and 3.2 m from the camera, 0.6 m apart across the view; a third one
+        // 4.4 m away behind them shows a shoulder and a hip on each, all read at their depths:
+        // lifted, that torso's centre lies between the two, further than the gate from the
+        // third person's own and further than MIN_SEPARATION from either front person's.
+        let front = [body(2.85, -0.2), body(3.15, -0.8)];
+        let mut hidden = body(4.4, -0.5);
+        hidden[crate::coco::LEFT_SHOULDER] = [2.85, -0.35, 1.3];
+        hidden[crate::coco::LEFT_HIP] = [2.85, -0.3, 0.8];
+        hidden[crate::coco::RIGHT_SHOULDER] = [3.15, -0.65, 1.3];
+        hidden[crate::coco::RIGHT_HIP] = [3.15, -0.7, 0.8];
+        for i in 0..N_JOINTS {
+            if !TORSO.contains(&i) {
+                hidden[i] = [f64::NAN; 3];
+            }
+        }
+        let surface = PersonConfig {
+            surface_depth: [0.0; 2],
+            ..PersonConfig::default()
+        };
+        let lifted = detection_centre(&hidden, &SEEN, &surface, [0.0; 3]);
+        for f in front {
+            let own = detection_centre(&f, &SEEN, &surface, [0.0; 3]);
+            assert!(distance(lifted, own) > MIN_SEPARATION, "{lifted:?} {own:?}");
+        }
+        let mut tracker = Tracker::new(TrackerConfig {
+            min_hits: 1,
+            ..TrackerConfig::default()
+        })
+        .unwrap();
+        for k in 0..5 {
+            let frame = [front[0], hidden, front[1]];
+            let out = tracker
+                .update(k as f64 / 15.0, &frame, &[SEEN; 3], [0.0; 3])
+                .unwrap();
+            // Left with the joints on the farther front person (judged after it, being nearer
+            // as lifted), it is that person seen twice: two tracks, one each.
+            let tracked: Vec<bool> = out.iter().map(|o| o.track.is_some()).collect();
+            assert!(
+                tracked[0] && tracked[1] != tracked[2],
+                "frame {k}: {tracked:?}"
+            );
+            assert_eq!(tracker.live(), 2, "frame {k}");
+            // The people in front keep every joint; the one behind, those not on the nearer.
+            assert_eq!(
+                format!("{:?}", tracker.joints()[0]),
+                format!("{:?}", front[0])
+            );
+            assert_eq!(
+                format!("{:?}", tracker.joints()[2]),
+                format!("{:?}", front[1])
+            );
+            let kept = TORSO.map(|i| finite(&tracker.joints()[1][i]));
+            assert_eq!(kept, [false, true, false, true], "frame {k}");
         }
     }
 
