@@ -3,7 +3,9 @@ torso centres (the optimal assignment within ``TrackerConfig.gate``), tentative 
 after ``min_hits`` matched frames and given the next id, a confirmed track dropped after
 ``max_missing`` s unmatched (a tentative one at its first miss), one person chain per track. A
 detection whose torso centre lies within ``MIN_SEPARATION`` (0.25 m) of one a track took is the
-same body seen twice and opens no track.
+same body seen twice and opens no track; before association, a detection's joints lying within
+``MIN_SEPARATION`` of the torso centre of someone nearer the camera were lifted onto them, and
+are dropped.
 
 :meth:`Tracker.step` takes a frame's 2D keypoints and registered depth image in one call (depth
 lookup, deprojection, association, every track's update and forecast); :meth:`Tracker.update`
