@@ -747,10 +747,10 @@ mod tests {
 
     #[test]
     fn a_person_lifted_among_the_people_in_front_opens_no_track_of_their_own() {
-        // Two people 2.85 and 3.2 m from the camera, 0.6 m apart across the view; a third one
-        // 4.4 m away behind them shows a shoulder and a hip on each, all read at their depths:
-        // lifted, that torso's centre lies between the two, further than the gate from the
-        // third person's own and further than MIN_SEPARATION from either front person's.
+        // Two people about 2.9 and 3.25 m from the camera, 0.7 m apart; a third one 4.4 m away
+        // behind them shows a shoulder and a hip on each, all read at their depths: lifted,
+        // that torso's centre lies between the two, further than the gate from the third
+        // person's own and further than MIN_SEPARATION from either front person's.
         let front = [body(2.85, -0.2), body(3.15, -0.8)];
         let mut hidden = body(4.4, -0.5);
         hidden[crate::coco::LEFT_SHOULDER] = [2.85, -0.35, 1.3];
@@ -781,8 +781,8 @@ mod tests {
             let out = tracker
                 .update(k as f64 / 15.0, &frame, &[SEEN; 3], [0.0; 3])
                 .unwrap();
-            // Left with the joints on the farther front person (judged after it, being nearer
-            // as lifted), it is that person seen twice: two tracks, one each.
+            // Judged before the farther front person (its lifted centre is the nearer), it keeps
+            // the joints on them and is that person seen twice: two tracks, one each.
             let tracked: Vec<bool> = out.iter().map(|o| o.track.is_some()).collect();
             assert!(
                 tracked[0] && tracked[1] != tracked[2],
