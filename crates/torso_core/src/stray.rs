@@ -13,7 +13,7 @@
 
 use crate::coco::{Joints, TORSO};
 use crate::tracker::MIN_SEPARATION;
-use crate::vec3::{distance, finite};
+use crate::vec3::{distance, finite, horizontal_distance};
 
 /// The farthest (m) a torso joint may lie, horizontally, from the median of the other three: a
 /// frontal torso with broad shoulders (0.5 m) and hips (0.35 m) puts a shoulder about 0.43 m
@@ -52,10 +52,7 @@ pub const MAX_TORSO_SPAN: f64 = 2.0 * MAX_TORSO_SPREAD;
 pub fn drop_stray(joints: &mut Joints, camera: [f64; 3]) -> [bool; 4] {
     let mut dropped = [false; 4];
     let seen = TORSO.map(|i| finite(&joints[i]));
-    let horizontal = |a: usize, b: usize| {
-        let (p, q) = (joints[TORSO[a]], joints[TORSO[b]]);
-        (p[0] - q[0]).hypot(p[1] - q[1])
-    };
+    let horizontal = |a: usize, b: usize| horizontal_distance(joints[TORSO[a]], joints[TORSO[b]]);
     // Single linkage over at most four joints: a group is named by its smallest member.
     let mut group = [0, 1, 2, 3];
     for a in 0..4 {
@@ -130,14 +127,13 @@ pub fn drop_read_off_nearer(
     centre: [f64; 3],
     nearer: impl IntoIterator<Item = [f64; 3]>,
 ) -> usize {
-    let horizontal = |p: &[f64; 3], q: &[f64; 3]| (p[0] - q[0]).hypot(p[1] - q[1]);
     let mut dropped = 0;
     for front in nearer {
         if !(distance(front, centre) >= MIN_SEPARATION) {
             continue;
         }
         for x in joints.iter_mut().filter(|x| finite(x)) {
-            if horizontal(x, &front) < MIN_SEPARATION {
+            if horizontal_distance(*x, front) < MIN_SEPARATION {
                 *x = [f64::NAN; 3];
                 dropped += 1;
             }
@@ -153,7 +149,7 @@ fn farthest_from_the_others(joints: &Joints) -> Option<usize> {
     let spread = |i: usize| {
         let others: [[f64; 3]; 3] = std::array::from_fn(|k| torso[if k < i { k } else { k + 1 }]);
         let centre = [0, 1].map(|axis| median3(others.map(|p| p[axis])));
-        (torso[i][0] - centre[0]).hypot(torso[i][1] - centre[1])
+        horizontal_distance(torso[i], [centre[0], centre[1], 0.0])
     };
     let (worst, far) = (0..4)
         .map(|i| (i, spread(i)))

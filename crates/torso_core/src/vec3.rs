@@ -25,6 +25,11 @@ pub(crate) fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
     norm(sub(a, b))
 }
 
+/// Distance in the ground plane (x, y), the height left out.
+pub(crate) fn horizontal_distance(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
 pub(crate) fn midpoint(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [
         0.5 * (a[0] + b[0]),
