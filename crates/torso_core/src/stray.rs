@@ -208,6 +208,17 @@ mod tests {
             TORSO.map(|i| finite(&joints[i])),
             [false, true, false, true]
         );
+        // A detection with no centre, or a front person without one, takes or loses nothing.
+        let mut unplaced = beside(4.4, -0.55);
+        let nan = [f64::NAN; 3];
+        assert_eq!(
+            drop_read_off_nearer(&mut unplaced, nan, [centre(&front)]),
+            0
+        );
+        assert_eq!(
+            drop_read_off_nearer(&mut unplaced, centre(&front), [nan]),
+            0
+        );
         // Side by side, broad shoulders 5 cm apart, and a body seen twice 5 cm off: nothing.
         for other in [beside(2.85, 0.35), beside(2.9, -0.2)] {
             let mut joints = other;
