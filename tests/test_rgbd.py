@@ -110,6 +110,7 @@ def test_run_writes_json_lines_and_overlays(tmp_path, capsys):
     confident = [line["people"][0]["heading_confident"] for line in lines]
     assert sum(confident) > 50 and not any(confident[:5])
     assert last["heading_confident"] and last["facing_evidence"] > 1.0
+    assert all(isinstance(line["people"][0]["heading_held"], bool) for line in lines)
     assert [f["horizon"] for f in last["forecast"]] == [0.4, 1.0]
     # Intervals come once the track has checked its forecasts: 80 % half-widths, per component
     # (the elevation's is 0 here: the hips are out of view and the shoulders hold it).

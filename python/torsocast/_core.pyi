@@ -501,6 +501,11 @@ class Observation:
         confirms the heading's side (more evidence than the labels alone can build), and the
         heading lies within 45 degrees of the track's recent heading."""
     @property
+    def heading_held(self) -> bool:
+        """The frame's torso plane lay more than 45 degrees across the track's recent heading:
+        ``pose`` reports the recent heading instead of the plane's azimuth (its centre and
+        elevation are the plane's), and the track's forecasts start from it."""
+    @property
     def joints(self) -> _F64: ...
     @property
     def completed(self) -> npt.NDArray[np.bool_]: ...

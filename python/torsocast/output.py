@@ -55,6 +55,7 @@ def record(result: FrameResult, horizons: Sequence[float]) -> dict[str, Any]:
                     estimate=obs.estimate,
                     swapped=obs.swapped,
                     heading_confident=obs.heading_confident,
+                    heading_held=obs.heading_held,
                     facing_evidence=_clean(obs.facing_evidence, 2),
                     joint_status=obs.joint_status.tolist(),
                     completed=np.flatnonzero(obs.completed).tolist(),

@@ -22,12 +22,14 @@
 //! long they agree, build about a memory's worth of evidence; a heading with more than that has
 //! been confirmed recently by another cue, and is reported confident unless the frame's torso
 //! line lies far across the recent heading (a bad plane). The decision owns the side of the pose
-//! the track reports ([`Facing::opposes`]), the plane fitted after the gate only its line.
+//! the track reports ([`Facing::opposes`]), the plane fitted after the gate only its line; and
+//! where that line lies far across the recent heading, the pose reports the recent heading
+//! ([`Facing::across_recent`]).
 
 use crate::coco::{self, Joints, N_JOINTS};
 use crate::plane::shoulder_heading;
 use crate::vec3::{distance, finite};
-use std::f64::consts::{FRAC_PI_4, PI};
+use std::f64::consts::{FRAC_PI_4, PI, TAU};
 
 /// A nose less than this (m) in front of the shoulders' midpoint, horizontally, says nothing.
 const MIN_NOSE_OFFSET: f64 = 0.03;
@@ -201,6 +203,32 @@ impl Facing {
     pub fn opposes(&self, azimuth: f64) -> bool {
         self.heading
             .is_some_and(|h| (azimuth - h).cos() < -MAX_CONFIDENT_TURN.cos())
+    }
+
+    /// The track's recent heading (its decisions over the last fifth of a second), unwrapped
+    /// near `azimuth`, where a torso plane with normal azimuth `azimuth` lies more than 45
+    /// degrees (`MAX_CONFIDENT_TURN`) across it: far more often a bad plane than a turn that
+    /// fast (the reason such a frame is not confident), and the recent heading says better
+    /// where the chest faces. `None` where the plane lies nearer, and before any decision.
+    ///
+    /// ```
+    /// use torso_core::sides::{Cues, Facing, FacingConfig};
+    /// let mut facing = Facing::default();
+    /// assert_eq!(facing.across_recent(2.0), None);
+    /// let cues = Cues { labelled: 0.0, label_vote: Some(0.0), centre: [2.0, 0.0, 1.0], nose: None, knees: None };
+    /// facing.decide(0.0, &cues, &FacingConfig::default());
+    /// assert_eq!(facing.across_recent(0.5), None);
+    /// assert_eq!(facing.across_recent(2.0), Some(0.0));
+    /// // Unwrapped near the plane's azimuth.
+    /// assert_eq!(facing.across_recent(2.0 + 4.0 * std::f64::consts::PI), Some(4.0 * std::f64::consts::PI));
+    /// ```
+    pub fn across_recent(&self, azimuth: f64) -> Option<f64> {
+        let [c, s] = self.reference;
+        if c.hypot(s) == 0.0 || near(azimuth, self.reference) {
+            return None;
+        }
+        let recent = s.atan2(c);
+        Some(recent + TAU * ((azimuth - recent) / TAU).round())
     }
 
     /// The decision for a frame at `t` with these cues.

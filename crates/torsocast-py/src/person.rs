@@ -168,6 +168,11 @@ impl Observation {
         self.inner.heading_confident
     }
 
+    #[getter]
+    fn heading_held(&self) -> bool {
+        self.inner.heading_held
+    }
+
     /// (17, 3) joints after the swap and the gate, NaN where lost.
     #[getter]
     fn joints<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {

@@ -83,6 +83,9 @@ pub struct Person {
     centre_offset: Option<[f64; 3]>,
     /// Last pose, for the elevation that a shoulders-only frame holds.
     last_pose: Option<Pose>,
+    /// Last pose reported, from which forecasts start: `last_pose`, or its heading held at the
+    /// recent heading ([`Observation::heading_held`]).
+    reported: Option<Pose>,
     /// Shoulder and hip widths learned in frontal and dorsal views ([`coco::TORSO_PAIRS`]).
     widths: [Option<f64>; 2],
     facing: Facing,
@@ -105,6 +108,7 @@ impl Person {
             body_motion: [0.0; 3],
             centre_offset: None,
             last_pose: None,
+            reported: None,
             widths: [None; 2],
             facing: Facing::default(),
             check: config
@@ -129,6 +133,7 @@ impl Person {
         self.body_motion = [0.0; 3];
         self.centre_offset = None;
         self.last_pose = None;
+        self.reported = None;
         self.widths = [None; 2];
         self.facing = Facing::default();
         self.trend = None;
@@ -208,12 +213,23 @@ impl Person {
         if let Some(p) = pose.as_mut().filter(|p| self.facing.opposes(p[AZIMUTH])) {
             turn_pose_round(p);
         }
+        // A plane far across the recent heading is reported (and forecast from) at the recent
+        // heading; the track keeps it as fitted. Fed back (the last pose decides which joint's
+        // depth the next frames complete), a held heading changed later frames' joints, and the
+        // flips went one way on one development draw and the other way on the next.
+        let held = pose.and_then(|p| self.facing.across_recent(p[AZIMUTH]));
+        let reported = pose.map(|mut p| {
+            if let Some(recent) = held {
+                p[AZIMUTH] = recent;
+            }
+            p
+        });
         let mut grid = GridReport::default();
-        if let Some(pose) = pose {
+        if let (Some(pose), Some(reported)) = (pose, reported) {
             // The forecaster's own slot rule decides, so that its update cannot refuse the
             // time stamp after this frame has changed the track.
             if self.forecaster.takes_time(t) {
-                let report = self.forecaster.update(pose, t, weight)?;
+                let report = self.forecaster.update(reported, t, weight)?;
                 grid.filled = report.filled;
                 grid.restarted = report.restarted;
                 self.check_forecast(report.restarted);
@@ -221,9 +237,10 @@ impl Person {
                 grid.skipped = true;
             }
             self.last_pose = Some(pose);
+            self.reported = Some(reported);
         }
         Ok(Observation {
-            pose: pose.map(|mut p| {
+            pose: reported.map(|mut p| {
                 p[AZIMUTH] = wrap_angle(p[AZIMUTH]);
                 p
             }),
@@ -232,6 +249,7 @@ impl Person {
             reoriented: decision.turned,
             facing_evidence: decision.evidence,
             heading_confident: decision.confident,
+            heading_held: held.is_some(),
             joints,
             completed,
             status,
@@ -277,7 +295,7 @@ impl Person {
         // The forecaster's last sample may be older than the latest estimate (a frame between
         // two grid slots is not taken): every candidate moves with it, so that holding still
         // holds the latest estimate.
-        let latest = self.last_pose.unwrap_or(hold);
+        let latest = self.reported.unwrap_or(hold);
         let mut offset: Pose = std::array::from_fn(|c| latest[c] - hold[c]);
         offset[AZIMUTH] = wrap_angle(offset[AZIMUTH]);
         for pose in out.iter_mut() {
@@ -370,7 +388,10 @@ impl Person {
         for (l, r) in coco::LEFT_RIGHT_PAIRS {
             self.gate.swap(l, r).expect("COCO pairs are gate indices");
         }
-        if let Some(pose) = self.last_pose.as_mut() {
+        for pose in [&mut self.last_pose, &mut self.reported]
+            .into_iter()
+            .flatten()
+        {
             turn_pose_round(pose);
         }
         self.forecaster.flip();
@@ -621,6 +642,51 @@ mod tests {
             checked += 1;
         }
         assert!(checked > 1400);
+    }
+
+    #[test]
+    fn a_plane_far_across_the_recent_heading_is_reported_at_the_recent_heading() {
+        // Facing the camera for a second; then one frame whose torso comes out turned by 70
+        // degrees (a gate wide enough to let it through, no depth completion), then facing the
+        // camera again.
+        let config = PersonConfig {
+            occlusion_ratio: 0.0,
+            gate: GateConfig {
+                threshold: 1.0,
+                ..GateConfig::default()
+            },
+            ..centres_given()
+        };
+        let mut track = Person::new(config).unwrap();
+        let mut update = |k: usize, yaw: f64| {
+            let (joints, scores) = person([3.0, 0.0, 1.0], yaw, true);
+            track
+                .update(k as f64 / 25.0, &joints, &scores, CAMERA)
+                .unwrap()
+        };
+        for k in 0..25 {
+            assert!(!update(k, PI).heading_held);
+        }
+        let bad = update(25, PI + 70f64.to_radians());
+        let reported = bad.pose.unwrap()[AZIMUTH];
+        assert!(bad.heading_held);
+        assert!(angle_error(reported, PI) < 20f64.to_radians(), "{reported}");
+        let again = update(26, PI);
+        assert!(!again.heading_held);
+        assert!(angle_error(again.pose.unwrap()[AZIMUTH], PI) < 1e-9);
+        // A forecast holding the heading still holds the reported one.
+        let (mut track, mut out) = (Person::new(config).unwrap(), [[0.0; 5]; 1]);
+        for k in 0..26 {
+            let yaw = if k == 25 { PI + 70f64.to_radians() } else { PI };
+            let (joints, scores) = person([3.0, 0.0, 1.0], yaw, true);
+            let seen = track
+                .update(k as f64 / 25.0, &joints, &scores, CAMERA)
+                .unwrap();
+            if k == 25 {
+                assert!(track.forecast(&[0.4], &mut out).unwrap());
+                assert!(angle_error(out[0][AZIMUTH], seen.pose.unwrap()[AZIMUTH]) < 1e-9);
+            }
+        }
     }
 
     #[test]

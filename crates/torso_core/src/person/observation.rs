@@ -67,6 +67,10 @@ pub struct Observation {
     /// than the labels alone can build) and it lies near the track's recent heading
     /// ([`crate::sides::Decision::confident`]).
     pub heading_confident: bool,
+    /// The frame's torso plane lay more than 45 degrees across the track's recent heading
+    /// ([`crate::sides::Facing::across_recent`]): `pose` reports the recent heading instead of
+    /// the plane's (its centre and elevation are the plane's), and the forecasts start from it.
+    pub heading_held: bool,
     /// The joints after the swap, the depth completion and the gate (NaN where lost).
     pub joints: Joints,
     /// Joints whose measured depth was replaced by the one the learned pair width gives (a far
