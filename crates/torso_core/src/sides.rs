@@ -208,8 +208,8 @@ impl Facing {
     /// The track's recent heading (its decisions over the last fifth of a second), unwrapped
     /// near `azimuth`, where a torso plane with normal azimuth `azimuth` lies more than 45
     /// degrees (`MAX_CONFIDENT_TURN`) across it: far more often a bad plane than a turn that
-    /// fast (the reason such a frame is not confident), and the recent heading says better
-    /// where the chest faces. `None` where the plane lies nearer, and before any decision.
+    /// fast (the confidence rule's reason), and the recent heading says better where the chest
+    /// faces. `None` where the plane lies nearer, and before any decision.
     ///
     /// ```
     /// use torso_core::sides::{Cues, Facing, FacingConfig};
