@@ -27,9 +27,10 @@
 //! ([`Facing::across_recent`]).
 
 use crate::coco::{self, Joints, N_JOINTS};
+use crate::history::unwrap_near;
 use crate::plane::shoulder_heading;
 use crate::vec3::{distance, finite};
-use std::f64::consts::{FRAC_PI_4, PI, TAU};
+use std::f64::consts::{FRAC_PI_4, PI};
 
 /// A nose less than this (m) in front of the shoulders' midpoint, horizontally, says nothing.
 const MIN_NOSE_OFFSET: f64 = 0.03;
@@ -227,8 +228,7 @@ impl Facing {
         if c.hypot(s) == 0.0 || near(azimuth, self.reference) {
             return None;
         }
-        let recent = s.atan2(c);
-        Some(recent + TAU * ((azimuth - recent) / TAU).round())
+        Some(unwrap_near(s.atan2(c), azimuth))
     }
 
     /// The decision for a frame at `t` with these cues.
@@ -250,7 +250,7 @@ impl Facing {
                 } else {
                     labelled + PI
                 };
-                let near = side + 2.0 * PI * ((h - side) / (2.0 * PI)).round();
+                let near = unwrap_near(side, h);
                 ((t - last_t).clamp(0.0, MAX_STEP), near)
             }
             _ => (UNIT_STEP, labelled),

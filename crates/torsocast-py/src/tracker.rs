@@ -229,7 +229,8 @@ impl Tracker {
     /// distortion (5,), camera_to_world (4, 4), horizons=None) -> (joints (people, 17, 3),
     /// list[TrackOutcome]): one frame of 2D keypoints `(u, v, score)` with the depth image (m)
     /// registered to them; the lifted world joints as the tracks took them (NaN where unseen,
-    /// without depth, or lifted onto someone nearer the camera) and each detection's outcome. A refused frame raises and leaves the tracker as it was.
+    /// without depth, or lifted onto someone nearer the camera) and each detection's outcome.
+    /// A refused frame raises and leaves the tracker as it was.
     #[pyo3(signature = (t, keypoints, depth, intrinsics, distortion, camera_to_world, horizons=None))]
     #[allow(clippy::too_many_arguments)]
     fn step<'py>(
