@@ -210,7 +210,8 @@ impl Facing {
     /// near `azimuth`, where a torso plane with normal azimuth `azimuth` lies more than 45
     /// degrees (`MAX_CONFIDENT_TURN`) across it: far more often a bad plane than a turn that
     /// fast (the confidence rule's reason), and the recent heading says better where the chest
-    /// faces. `None` where the plane lies nearer, and before any decision.
+    /// faces. `None` where the plane lies nearer, for an azimuth that is not a number, and
+    /// before any decision.
     ///
     /// ```
     /// use torso_core::sides::{Cues, Facing, FacingConfig};
@@ -222,10 +223,11 @@ impl Facing {
     /// assert_eq!(facing.across_recent(2.0), Some(0.0));
     /// // Unwrapped near the plane's azimuth.
     /// assert_eq!(facing.across_recent(2.0 + 4.0 * std::f64::consts::PI), Some(4.0 * std::f64::consts::PI));
+    /// assert_eq!(facing.across_recent(f64::NAN), None);
     /// ```
     pub fn across_recent(&self, azimuth: f64) -> Option<f64> {
         let [c, s] = self.reference;
-        if c.hypot(s) == 0.0 || near(azimuth, self.reference) {
+        if !azimuth.is_finite() || c.hypot(s) == 0.0 || near(azimuth, self.reference) {
             return None;
         }
         Some(unwrap_near(s.atan2(c), azimuth))
