@@ -19,6 +19,7 @@ from torsocast.datasets import cmu
 from torsocast.evaluation.scenes.score import TrackSide, assign, flip_source, view_angle
 from torsocast.evaluation.scenes.tables import (
     distance_bin,
+    flip_evidence_table,
     flip_source_table,
     forecast_table,
     loss_intervals,
@@ -199,6 +200,24 @@ def test_a_flip_is_put_down_to_the_first_rule_that_explains_it():
     assert [r["source"] for r in rows] == ["bad plane", "born wrong", "turned wrong", "side lost"]
     assert by["side lost"]["flips"] == 2 and by["side lost"]["share"] == 0.5 and by["side lost"]["young"] == 0
     assert by["born wrong"]["young"] == 1 and by["turned wrong"]["flips"] == 0
+
+
+def test_flips_are_counted_by_the_facing_evidence_given_with_the_estimate():
+    flip, right = np.radians(170.0), np.radians(10.0)
+    rows = flip_evidence_table(
+        {
+            "estimated": np.array([True, True, True, True, True, False]),
+            "facing_evidence": np.array([0.1, 0.2, 0.3, 1.5, 5.0, np.nan]),
+            "azimuth": np.array([flip, right, right, flip, right, np.nan]),
+        }
+    )
+    by = {r["band"]: r for r in rows}
+    assert [r["band"] for r in rows] == ["0-0.25 s", "0.25-0.5 s", "0.5-1 s", "1-2 s", "2 s and more"]
+    # Shares are of the estimates (the frame without one counts nowhere); flips within the band.
+    assert by["0-0.25 s"] == {"band": "0-0.25 s", "estimates": 2, "share": 0.4, "flips": 0.5}
+    assert by["0.25-0.5 s"]["flips"] == 0.0 and by["1-2 s"]["flips"] == 1.0
+    assert by["0.5-1 s"]["estimates"] == 0 and np.isnan(by["0.5-1 s"]["flips"])
+    assert sum(r["estimates"] for r in rows) == 5
 
 
 def test_a_flip_rate_interval_resamples_scenes_not_frames():

@@ -182,6 +182,21 @@ def _flip_sources_md(rows: list[dict[str, Any]]) -> list[str]:
     return out
 
 
+def _flip_evidence_md(rows: list[dict[str, Any]]) -> list[str]:
+    out = [
+        "Flips by the facing evidence the track gave with the estimate (`facing_evidence`, in "
+        "seconds of the labels' agreement: the labels alone build about a second's worth, more has "
+        "been confirmed by another cue; a track that has just turned round starts again from "
+        "little).",
+        "",
+        "| facing evidence | estimates | share of estimates | flips |",
+        "|---|---:|---:|---:|",
+    ]
+    for r in rows:
+        out.append(f"| {r['band']} | {r['estimates']} | {_pct(r['share'])} | {_pct(r['flips'])} |")
+    return out
+
+
 def markdown(bench: Benchmark, t: dict[str, Any], figures: list[str]) -> str:
     rec = t["recovery"]["all"][0]
     kind = "quick run" if bench.quick else "full run"
@@ -210,6 +225,7 @@ def markdown(bench: Benchmark, t: dict[str, Any], figures: list[str]) -> str:
         lines += ["", f"### By {AXIS_NAMES[axis]}" if axis != "all" else "### All", ""]
         lines += _recovery_md(t["recovery"][axis], axis)
     lines += ["", "### Where the flips come from", "", *_flip_sources_md(t["flip_sources"])]
+    lines += ["", *_flip_evidence_md(t["flip_evidence"])]
     lines += ["", "## Forecasts", ""]
     lines.append(
         "Every forecast of a confirmed track against the true pose at the time it aims at, beside "

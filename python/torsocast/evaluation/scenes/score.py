@@ -175,6 +175,9 @@ class Scorer:
             self._row(r, actor, t, truth[actor])
             r["estimated"].append(pose is not None)
             r["confident"].append(pose is not None and bool(person and person.observation.heading_confident))
+            r["facing_evidence"].append(
+                float(person.observation.facing_evidence) if pose is not None and person else float("nan")
+            )
             err = np.abs(pose - truth[actor]) if pose is not None else np.full(5, np.nan)
             err[3] = abs(float(wrap_angle(err[3])))
             for name, value in zip(POSE_COMPONENTS, err):

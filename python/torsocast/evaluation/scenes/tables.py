@@ -31,6 +31,10 @@ INTERVAL = 0.9
 #: Centre errors are reported in cm, angles in degrees.
 SCALE = {"centre": 100.0, "azimuth": float(np.degrees(1.0)), "elevation": float(np.degrees(1.0))}
 UNIT = {"centre": "cm", "azimuth": "deg", "elevation": "deg"}
+#: Edges (s) of the bands of a track's facing evidence (`facing_evidence`: seconds of the
+#: labels' agreement) the flip rate is given by. The labels alone build about a second's worth
+#: (the side decision's memory); more has been confirmed by another cue.
+EVIDENCE_EDGES = (0.25, 0.5, 1.0, 2.0)
 
 
 def view_bin(degrees: np.ndarray) -> np.ndarray:
@@ -180,6 +184,28 @@ def flip_source_table(cols: Columns) -> list[dict[str, Any]]:
     return rows
 
 
+def flip_evidence_table(cols: Columns) -> list[dict[str, Any]]:
+    """Per band of the facing evidence a track gave with its estimate (:data:`EVIDENCE_EDGES`):
+    the estimates in it, their share of all estimates, and the share of them flipped: how far a
+    robot may trust a heading by the evidence the track reports with it."""
+    est = np.asarray(cols["estimated"]).astype(bool)
+    evidence = np.asarray(cols["facing_evidence"], dtype=float)[est]
+    flipped = np.degrees(np.asarray(cols["azimuth"], dtype=float)[est]) > FLIP_DEG
+    edges = (0.0, *EVIDENCE_EDGES, np.inf)
+    rows = []
+    for low, high in zip(edges, edges[1:]):
+        mine = (evidence >= low) & (evidence < high)
+        rows.append(
+            {
+                "band": f"{low:g} s and more" if np.isinf(high) else f"{low:g}-{high:g} s",
+                "estimates": int(mine.sum()),
+                "share": float(mine.mean()) if len(evidence) else float("nan"),
+                "flips": float(flipped[mine].mean()) if mine.any() else float("nan"),
+            }
+        )
+    return rows
+
+
 def forecast_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
     """Per group and horizon: forecasts, and each method's median, mean and 90th percentile of
     each component's error (cm or degrees)."""
@@ -311,6 +337,7 @@ def tables(recovery: Columns, forecasts: Columns, identity: Columns) -> dict[str
         "identity": {str(a or "all"): identity_table(identity, a) for a in (None, "people", "category")},
         "coverage": {str(a or "all"): coverage_table(forecasts, a) for a in (None, "category", "view")},
         "flip_sources": flip_source_table(recovery),
+        "flip_evidence": flip_evidence_table(recovery),
     }
     out["losses"] = {
         against: loss_intervals(forecasts, losses(out["forecasts"], against), against)
