@@ -310,6 +310,12 @@ def test_configs_are_frozen_values_built_from_the_cores_defaults():
         with pytest.raises(tc.InvalidArgumentError, match="surface_depth"):
             PersonConfig(surface_depth=depths)
     assert PersonConfig(surface_depth=(0.0, 0.0)).surface_depth == (0.0, 0.0)
+    # A grid the forecaster takes with a short history, but at which every track's self-check
+    # would keep 2e9 predictions: the process aborted on the allocation when a track opened.
+    fast = tc.ForecasterConfig("constant_velocity", rate_hz=1e9, history=1e-7)
+    with pytest.raises(tc.InvalidArgumentError, match="rate_hz"):
+        PersonConfig(forecaster=fast)
+    assert not tc.Person(PersonConfig(forecaster=fast, self_check=False)).config.self_check
 
 
 def test_a_walkers_track_checks_its_forecasts_and_gives_intervals():

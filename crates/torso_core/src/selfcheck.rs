@@ -27,6 +27,7 @@
 //! recent scores by chance would otherwise be continued. The centre of a steady walk is the
 //! exception: it mixes its trends freely.
 
+use crate::error::{check_positive, Error, Result};
 use crate::quantile::RecentQuantile;
 use crate::trend::Trend;
 use crate::{Pose, AZIMUTH, ELEVATION};
@@ -73,6 +74,9 @@ pub const CANDIDATES: usize = 4;
 /// The horizons (s) checked: the thesis' 0.4, 1 and 2 s.
 pub const HORIZONS: [f64; 3] = [0.4, 1.0, 2.0];
 const H: usize = HORIZONS.len();
+/// Most predictions a track's self-check keeps over its longest horizon: the bound a
+/// forecaster's history has on its samples.
+pub const MAX_PREDICTIONS: usize = 100_000;
 
 #[derive(Clone, Copy, Debug, Default)]
 struct Prediction {
@@ -89,7 +93,7 @@ struct Prediction {
 ///
 /// ```
 /// use torso_core::selfcheck::{SelfCheck, HORIZONS};
-/// let mut check = SelfCheck::new(25.0);
+/// let mut check = SelfCheck::new(25.0).unwrap();
 /// // A walk at 1 m/s along x whose plain trend comes true: after a while, the x forecast is it.
 /// for k in 0..100 {
 ///     let t = k as f64 / 25.0;
@@ -128,10 +132,11 @@ pub struct SelfCheck {
 }
 
 impl SelfCheck {
-    /// Checks on a grid of `rate_hz` (room for one prediction per slot of the longest horizon).
-    pub fn new(rate_hz: f64) -> Self {
-        let slots = (HORIZONS[H - 1] * rate_hz).ceil() as usize + 2;
-        Self {
+    /// Checks on a grid of `rate_hz` (room for one prediction per slot of the longest horizon);
+    /// refuses the rates [`slots`](Self::slots) refuses.
+    pub fn new(rate_hz: f64) -> Result<Self> {
+        let slots = Self::slots(rate_hz)?;
+        Ok(Self {
             half_step: 0.5 / rate_hz,
             ring: vec![Prediction::default(); slots],
             next: 0,
@@ -145,7 +150,31 @@ impl SelfCheck {
             fresh: [false; H],
             steady: [false; 5],
             seen: 0.0,
+        })
+    }
+
+    /// The predictions a check on a grid of `rate_hz` keeps; an error for a rate that is not
+    /// positive and finite, or so fast that the longest horizon would take more than
+    /// [`MAX_PREDICTIONS`] of them (each track keeps its own: a rate a forecaster takes with a
+    /// short history must not make every track allocate without bound).
+    ///
+    /// ```
+    /// use torso_core::selfcheck::{SelfCheck, MAX_PREDICTIONS};
+    /// assert_eq!(SelfCheck::slots(25.0).unwrap(), 52); // 2 s at 25 Hz, and two spare
+    /// assert!(SelfCheck::slots(MAX_PREDICTIONS as f64).is_err());
+    /// assert!(SelfCheck::slots(f64::INFINITY).is_err() && SelfCheck::slots(0.0).is_err());
+    /// ```
+    pub fn slots(rate_hz: f64) -> Result<usize> {
+        check_positive("rate_hz", rate_hz, "a positive, finite grid rate in Hz")?;
+        let longest = (HORIZONS[H - 1] * rate_hz).ceil();
+        if longest > MAX_PREDICTIONS as f64 {
+            return Err(Error::InvalidArgument {
+                name: "rate_hz",
+                expected: "a grid rate at which a track's self-check keeps at most 100000 predictions over its longest horizon (2 s): up to 50000 Hz",
+                value: rate_hz,
+            });
         }
+        Ok(longest as usize + 2)
     }
 
     /// The forecaster took `sample` at grid time `t` and predicts `damped[k]`, `plain[k]` and
@@ -564,7 +593,7 @@ mod tests {
     fn a_trend_that_comes_true_is_kept_and_one_that_does_not_is_dropped() {
         // Component 0 moves at 1 m/s: the plain trend says so, the damped one says half of it.
         // Component 3 stands still while both trends say it moves at 1 rad/s.
-        let mut check = SelfCheck::new(25.0);
+        let mut check = SelfCheck::new(25.0).unwrap();
         assert_eq!(check.weights(0.4), HOLD_ALL);
         for k in 0..150 {
             let t = k as f64 / 25.0;
@@ -587,7 +616,7 @@ mod tests {
         // (10 steps, an even count) holding is exact; at 1 s (25 steps) it errs by 0.2 every time
         // and still beats the trends. 2 s has not been checked after 1.6 s: the 1 s spread
         // stands in, grown by the square root of 2.
-        let mut check = SelfCheck::new(25.0);
+        let mut check = SelfCheck::new(25.0).unwrap();
         assert_eq!(check.spread(0.4), None);
         for k in 0..40 {
             let t = k as f64 / 25.0;
@@ -607,7 +636,7 @@ mod tests {
         // Samples of ±0.1 in a pseudo-random order, every candidate holding still: half the
         // errors 0.4 s ahead are 0 and half ±0.2, so the spread (their root mean square) is
         // 0.2 / √2 and 80 % of the errors lie within √2 spreads, not INTERVAL_80's 2.
-        let mut check = SelfCheck::new(25.0);
+        let mut check = SelfCheck::new(25.0).unwrap();
         let mut state: u32 = 12345;
         for k in 0..200 {
             let t = k as f64 / 25.0;
@@ -640,7 +669,7 @@ mod tests {
         // by 0.5 h); the other's is level noise, where a velocity candidate is off by a small
         // error of either sign that, scored against the noisy samples, sometimes wins.
         let noise = |k: usize| 0.05 * ((k * 7919 % 101) as f64 / 50.0 - 1.0);
-        let (mut turn, mut level) = (SelfCheck::new(25.0), SelfCheck::new(25.0));
+        let (mut turn, mut level) = (SelfCheck::new(25.0).unwrap(), SelfCheck::new(25.0).unwrap());
         for k in 0..150 {
             let t = k as f64 / 25.0;
             let at = |az: f64| [0.0, 0.0, 1.0, az, 1.5];
@@ -660,7 +689,7 @@ mod tests {
 
     #[test]
     fn a_steady_motion_makes_a_trend_the_prior() {
-        let mut check = SelfCheck::new(25.0);
+        let mut check = SelfCheck::new(25.0).unwrap();
         assert!(check.weights(0.4).iter().all(|w| *w == HOLD_ONLY));
         check.set_steady([true; 5], 1.0);
         let w = check.weights(0.4);
@@ -681,7 +710,7 @@ mod tests {
         // misses by less: in squares holding wins or the turn's gain is lost in its spread, in
         // the count of scores the turn wins. The last stopped as each forecast was made:
         // continuing it erred, holding was right.
-        let mut going = SelfCheck::new(25.0);
+        let mut going = SelfCheck::new(25.0).unwrap();
         let (mut bad_planes, mut stopped) = (going.clone(), going.clone());
         for check in [&mut going, &mut bad_planes, &mut stopped] {
             check.set_steady([false, false, false, true, false], 1.2);
@@ -705,7 +734,7 @@ mod tests {
         assert_eq!(bad_planes.weights(2.0)[AZIMUTH], [0.0, 0.0, 0.0, 1.0]);
         assert_eq!(stopped.weights(2.0)[AZIMUTH], HOLD_ONLY);
         // Before any forecast was scored, neither had shown anything: both held.
-        let mut young = SelfCheck::new(25.0);
+        let mut young = SelfCheck::new(25.0).unwrap();
         young.set_steady([false, false, false, true, false], 1.2);
         assert_eq!(young.weights(2.0)[AZIMUTH], HOLD_ONLY);
     }
@@ -716,7 +745,8 @@ mod tests {
         // goes on (continuing it comes true 0.4 s ahead, holding errs by 0.2 rad) but every
         // fifth estimate is a bad plane 1 rad behind, which holding misses by less: in squares
         // holding wins, in the count of scores the turn does. The other turn has stopped.
-        let (mut going, mut stopped) = (SelfCheck::new(25.0), SelfCheck::new(25.0));
+        let (mut going, mut stopped) =
+            (SelfCheck::new(25.0).unwrap(), SelfCheck::new(25.0).unwrap());
         for check in [&mut going, &mut stopped] {
             check.set_steady([false, false, false, true, false], 2.0);
         }
@@ -755,7 +785,7 @@ mod tests {
             seen: 1.2,
             flipped: false,
         };
-        let mut check = SelfCheck::new(25.0);
+        let mut check = SelfCheck::new(25.0).unwrap();
         check.set_steady(trend.steady(), trend.seen);
         for (h, rate) in [(0.4, 0.5 / 20.0), (1.0, 0.5 / 20.0), (2.0, 0.5)] {
             let w = check.unchecked_half_width(&trend, h).unwrap();
@@ -770,7 +800,7 @@ mod tests {
     fn an_angle_interval_is_at_most_half_a_turn() {
         // Estimates that swing by 3 rad (and 10 m) about the forecasts every 0.4 s: the spread
         // times the multiple is well over half a turn, and says no more than half a turn does.
-        let mut check = SelfCheck::new(25.0);
+        let mut check = SelfCheck::new(25.0).unwrap();
         for k in 0..60 {
             let t = k as f64 / 25.0;
             let swing = if (k / 10) % 2 == 0 { 1.0 } else { -1.0 };
@@ -790,6 +820,7 @@ mod tests {
             ..Trend::default()
         };
         let unchecked = SelfCheck::new(25.0)
+            .unwrap()
             .unchecked_half_width(&trend, 2.0)
             .unwrap();
         assert_eq!(unchecked[AZIMUTH], PI);

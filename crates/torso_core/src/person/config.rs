@@ -4,6 +4,7 @@ use crate::coco::{Joints, N_JOINTS, TORSO};
 use crate::error::{Error, Result};
 use crate::forecaster::ForecasterConfig;
 use crate::gating::{GateConfig, JointGate};
+use crate::selfcheck::SelfCheck;
 use crate::sides::FacingConfig;
 use crate::vec3::{add, finite, norm, sub};
 
@@ -160,6 +161,9 @@ impl PersonConfig {
     /// Checks every field, as [`Person::new`](super::Person::new) does.
     pub fn validate(&self) -> Result<()> {
         self.forecaster.validate()?;
+        if self.self_check {
+            SelfCheck::slots(self.forecaster.rate_hz)?;
+        }
         JointGate::new(N_JOINTS, self.gate)?;
         if !(0.0..=1.0).contains(&self.min_score) {
             return Err(Error::InvalidArgument {

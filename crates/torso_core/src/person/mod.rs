@@ -111,9 +111,11 @@ impl Person {
             reported: None,
             widths: [None; 2],
             facing: Facing::default(),
-            check: config
-                .self_check
-                .then(|| SelfCheck::new(config.forecaster.rate_hz)),
+            check: if config.self_check {
+                Some(SelfCheck::new(config.forecaster.rate_hz)?)
+            } else {
+                None
+            },
             trend: None,
             scratch: [[0.0; 5]; MAX_HORIZONS],
         })
@@ -548,7 +550,7 @@ mod tests {
     use crate::sides::FacingConfig;
     use crate::stray::drop_stray;
     use crate::vec3::{distance, dot, norm};
-    use crate::GateConfig;
+    use crate::{ForecasterConfig, GateConfig};
 
     const CAMERA: [f64; 3] = [0.0; 3];
 
@@ -1096,6 +1098,43 @@ mod tests {
         scores[LEFT_HIP] = 0.9;
         let obs = track.update(0.04, &joints, &scores, CAMERA).unwrap();
         assert!(obs.weight.is_finite() && obs.estimate == Estimate::Plane);
+    }
+
+    #[test]
+    fn a_grid_too_fast_for_the_self_checks_predictions_is_refused_before_anything_is_allocated() {
+        // A forecaster takes 10 MHz with a history short enough to fit its bound on samples; its
+        // self-check would keep 20 million predictions per track (and at 1 GHz the process
+        // aborted on the allocation).
+        let fast = ForecasterConfig {
+            rate_hz: 1e7,
+            history: 1e-3,
+            ..ForecasterConfig::constant_velocity(None)
+        };
+        assert!(fast.validate().is_ok());
+        let config = PersonConfig {
+            forecaster: fast,
+            ..PersonConfig::default()
+        };
+        match Person::new(config) {
+            Err(Error::InvalidArgument { name, value, .. }) => {
+                assert_eq!((name, value), ("rate_hz", 1e7))
+            }
+            other => panic!("{other:?}"),
+        }
+        let unchecked = PersonConfig {
+            self_check: false,
+            ..config
+        };
+        assert!(Person::new(unchecked).is_ok());
+        let fastest = PersonConfig {
+            forecaster: ForecasterConfig {
+                rate_hz: 50_000.0,
+                history: 1.0,
+                ..fast
+            },
+            ..config
+        };
+        assert!(Person::new(fastest).is_ok()); // 100000 predictions over 2 s: the bound
     }
 
     #[test]
