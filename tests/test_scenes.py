@@ -524,6 +524,13 @@ def test_eval_scenes_quick_runs_and_its_numbers_come_back_for_the_seed(tmp_path,
     # the estimates, flipped in 3.7 % of them).
     everything = tables["recovery"]["all"][0]
     assert everything["confident"] > 0.6 and everything["flips_confident"] < 0.6 * everything["flips"]
+    # The track's facing evidence grades the same trust (measured: under a quarter of a
+    # second's worth, 7.7 % of the estimates, flipped in 35.7 %; 2 s and more, 52.9 %, in none).
+    by_evidence = tables["flip_evidence"]
+    estimated = round(everything["estimated"] * everything["person_frames"])
+    assert sum(r["estimates"] for r in by_evidence) == estimated
+    weakest, strongest = by_evidence[0], by_evidence[-1]
+    assert strongest["share"] > 0.3 and strongest["flips"] < 0.25 * weakest["flips"]
     assert {r["horizon"] for r in tables["forecasts"]["all"]} == {0.4, 1.0, 2.0}
     assert {r["group"] for r in tables["recovery"]["category"]} <= {
         "cmu walking",
