@@ -88,6 +88,8 @@ pub struct CrateReadmeDoctests;
 /// A torso pose as the forecaster sees it: `[x, y, z, azimuth, elevation]` (m, m, m, rad, rad).
 pub type Pose = [f64; 5];
 
+/// Index of the centre's height (the gravity-aligned frame's z, up) in a [`Pose`].
+pub const HEIGHT: usize = 2;
 /// Index of the azimuth in a [`Pose`].
 pub const AZIMUTH: usize = 3;
 /// Index of the elevation in a [`Pose`].
