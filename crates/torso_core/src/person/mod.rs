@@ -550,7 +550,7 @@ mod tests {
     use crate::sides::FacingConfig;
     use crate::stray::drop_stray;
     use crate::vec3::{distance, dot, norm};
-    use crate::{ForecasterConfig, GateConfig};
+    use crate::{ForecasterConfig, GateConfig, HEIGHT};
 
     const CAMERA: [f64; 3] = [0.0; 3];
 
@@ -755,6 +755,26 @@ mod tests {
                 assert!((pose[AZIMUTH] - before[AZIMUTH]).abs() < 1e-9);
             }
         }
+    }
+
+    #[test]
+    fn a_walk_is_continued_over_the_ground_and_its_height_held() {
+        // Walking to +y at 1 m/s while sinking at 0.3 m/s (sitting down in stride), seen for
+        // less than the shortest checked horizon, so that nothing but the history's line says
+        // what moves: one second ahead the walk goes on, the torso's height stays where it is
+        // (a body sinks only so far; its own later checks may still let a trend in).
+        let mut track = Person::new(centres_given()).unwrap();
+        let mut last = [0.0; 5];
+        for k in 0..8 {
+            let t = k as f64 / 25.0;
+            let (joints, scores) = person([2.0, t, 1.0 - 0.3 * t], FRAC_PI_2, true);
+            let obs = track.update(t, &joints, &scores, CAMERA).unwrap();
+            last = obs.pose.unwrap();
+        }
+        let mut ahead = [[0.0; 5]];
+        assert!(track.forecast(&[1.0], &mut ahead).unwrap());
+        assert!((ahead[0][1] - (last[1] + 1.0)).abs() < 1e-6);
+        assert!((ahead[0][HEIGHT] - last[HEIGHT]).abs() < 1e-9);
     }
 
     #[test]
