@@ -19,7 +19,8 @@
 //! track's own forecasts have shown it going on), and a turn only while it is still coming true
 //! (continuing it has missed by less than holding still in at least half of the recent scores at
 //! the shortest horizon: a turn that has stopped stays in the history's line for as long as the
-//! history holds it); the elevation always holds still. A component's mix takes another candidate
+//! history holds it); the centre's height never counts as moving steadily ([`crate::trend`]), and
+//! the elevation always holds still. A component's mix takes another candidate
 //! than its prior only when that one's gain over the prior (the difference of their squared errors)
 //! is significant: its mean [`SIGNIFICANCE`] standard errors above zero, counting the scores of one
 //! horizon's span as one (overlapping forecasts err together). A detector's noise makes most fitted
