@@ -334,6 +334,45 @@ def test_an_array_with_the_wrong_number_of_dimensions_is_a_shape_error_naming_it
         call()
 
 
+@pytest.mark.parametrize(
+    ("call", "name"),
+    [
+        (lambda: tc.Forecaster().update([0.0] * 4, 0.0), "pose"),
+        (lambda: tc.ForecasterConfig("filter_spline", damping=[1.0] * 6), "damping"),
+        (lambda: tc.ForecasterConfig("filter_spline", filter_components=[True] * 4), "filter_components"),
+        (lambda: tc.shoulder_heading([0.0, 1.0], [1.0, 0.0, 0.0]), "left"),
+        (lambda: tc.PersonConfig(surface_depth=(0.05,)), "surface_depth"),
+        (
+            lambda: tc.Tracker().step(
+                0.0,
+                np.zeros((0, 17, 3)),
+                np.zeros((4, 4), np.float32),
+                (1.0, 1.0, 1.0),
+                (0.0,) * 5,
+                np.eye(4),
+            ),
+            "intrinsics",
+        ),
+        (
+            lambda: tc.Tracker().step(
+                0.0,
+                np.zeros((0, 17, 3)),
+                np.zeros((4, 4), np.float32),
+                (1.0, 1.0, 2.0, 2.0),
+                (0.0,) * 4,
+                np.eye(4),
+            ),
+            "distortion",
+        ),
+    ],
+)
+def test_a_sequence_of_the_wrong_length_is_a_shape_error_naming_it(call, name):
+    # It was a plain ValueError 'expected a sequence of length 5 (got 4)' that named nothing and
+    # that `except TorsocastError` did not catch.
+    with pytest.raises(tc.ShapeError, match=f"`{name}` has shape"):
+        call()
+
+
 def test_batch_calls_in_threads_give_the_serial_results():
     # forecast_batch and fit_planes release the GIL while the core works.
     from concurrent.futures import ThreadPoolExecutor

@@ -274,7 +274,7 @@ class PersonConfig:
         motion_weight: float | None = None,
         self_check: bool | None = None,
         occlusion_ratio: float | None = None,
-        surface_depth: tuple[float, float] | None = None,
+        surface_depth: Sequence[float] | None = None,
     ) -> PersonConfig: ...
     @property
     def forecaster(self) -> ForecasterConfig:

@@ -26,6 +26,20 @@ pub fn c_order<'a, T: Copy, D: Dimension>(view: &'a ArrayView<'_, T, D>) -> Cow<
     }
 }
 
+/// A fixed number of values from an argument's flat buffer of shape `shape`: a `ShapeError`
+/// naming the argument otherwise.
+pub fn fixed<T: Copy, const N: usize>(name: &str, flat: &[T], shape: &[usize]) -> PyResult<[T; N]> {
+    flat.try_into()
+        .map_err(|_| shape_error(name, &format!("{N} values"), shape))
+}
+
+/// A fixed number of values from a Python sequence argument (a pose, a camera's intrinsics): a
+/// `ShapeError` naming the argument for any other length (extracted as an array, PyO3 raises a
+/// plain `ValueError` that names none).
+pub fn sequence<T: Copy, const N: usize>(name: &str, values: &[T]) -> PyResult<[T; N]> {
+    fixed(name, values, &[values.len()])
+}
+
 /// Rows of three (points) from an `(n, 3)`-shaped flat buffer.
 pub fn points(flat: &[f64]) -> Vec<[f64; 3]> {
     flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()

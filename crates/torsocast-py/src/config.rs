@@ -2,6 +2,7 @@
 //! core's `Default`, so no default number is written in the binding. Each class lists its fields
 //! once (`fields`), and its repr, equality, pickling and `replace` are built from that list.
 
+use crate::arrays::sequence;
 use crate::errors::{count_or, to_py};
 use crate::forecaster::ForecasterConfig;
 use numpy::{AllowTypeChange, PyArrayDyn, PyArrayLikeDyn, PyArrayMethods, PyUntypedArrayMethods};
@@ -184,8 +185,11 @@ frozen_config!(PersonConfig, {
         motion_weight: Option<f64>,
         self_check: Option<bool>,
         occlusion_ratio: Option<f64>,
-        surface_depth: Option<(f64, f64)>,
+        surface_depth: Option<Vec<f64>>,
     ) -> PyResult<Self> {
+        let surface_depth: Option<[f64; 2]> = surface_depth
+            .map(|v| sequence("surface_depth", &v))
+            .transpose()?;
         let d = torso_core::PersonConfig::default();
         let inner = torso_core::PersonConfig {
             forecaster: forecaster.map_or(d.forecaster, |f| f.inner),
@@ -206,7 +210,7 @@ frozen_config!(PersonConfig, {
             },
             self_check: self_check.unwrap_or(d.self_check),
             occlusion_ratio: occlusion_ratio.unwrap_or(d.occlusion_ratio),
-            surface_depth: surface_depth.map_or(d.surface_depth, |(s, h)| [s, h]),
+            surface_depth: surface_depth.unwrap_or(d.surface_depth),
         };
         inner.validate().map_err(to_py)?;
         Ok(Self::from_core(inner))

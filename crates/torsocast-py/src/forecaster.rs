@@ -1,6 +1,6 @@
 //! Forecaster, its configuration and the batch call.
 
-use crate::arrays::{c_order, matrix, ArrayPair};
+use crate::arrays::{c_order, matrix, sequence, ArrayPair};
 use crate::errors::{count_or, shape_error, to_py, unknown_option, InvalidArgumentError};
 use numpy::{
     AllowTypeChange, PyArray1, PyArray2, PyArray3, PyArrayLikeDyn, PyArrayMethods,
@@ -69,13 +69,17 @@ impl ForecasterConfig {
         filter: Option<&str>,
         filter_order: Option<i64>,
         cutoff_hz: Option<f64>,
-        filter_components: Option<[bool; 5]>,
+        filter_components: Option<Vec<bool>>,
         degree: Option<i64>,
         lam: Option<f64>,
         lambda_unit: Option<&str>,
         extrapolation: Option<&str>,
-        damping: Option<[f64; 5]>,
+        damping: Option<Vec<f64>>,
     ) -> PyResult<Self> {
+        let filter_components: Option<[bool; 5]> = filter_components
+            .map(|v| sequence("filter_components", &v))
+            .transpose()?;
+        let damping: Option<[f64; 5]> = damping.map(|v| sequence("damping", &v)).transpose()?;
         // Every default is the core's (`ForecasterConfig::default()`).
         let d = torso_core::ForecasterConfig::default();
         let Method::FilterSpline(ds) = d.method else {
@@ -347,7 +351,8 @@ impl Forecaster {
 
     /// update(pose, t, weight=1.0) -> (filled, restarted)
     #[pyo3(signature = (pose, t, weight=1.0))]
-    fn update(&mut self, pose: [f64; 5], t: f64, weight: f64) -> PyResult<(usize, bool)> {
+    fn update(&mut self, pose: Vec<f64>, t: f64, weight: f64) -> PyResult<(usize, bool)> {
+        let pose = sequence("pose", &pose)?;
         let r = self.inner.update(pose, t, weight).map_err(to_py)?;
         Ok((r.filled, r.restarted))
     }

@@ -1,6 +1,6 @@
 //! One tracked person's per-frame chain, one call per person and frame.
 
-use crate::arrays::{contiguous, expect_ndim, matrix};
+use crate::arrays::{contiguous, expect_ndim, fixed, matrix};
 use crate::config::PersonConfig;
 use crate::errors::{shape_error, to_py};
 use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLikeDyn, PyUntypedArrayMethods};
@@ -39,11 +39,6 @@ impl Person {
 #[pyclass(module = "torsocast._core", frozen)]
 pub struct Observation {
     pub inner: torso_core::Observation,
-}
-
-fn fixed<const N: usize>(name: &str, flat: &[f64], shape: &[usize]) -> PyResult<[f64; N]> {
-    flat.try_into()
-        .map_err(|_| shape_error(name, &format!("{N} values"), shape))
 }
 
 #[pymethods]

@@ -1,6 +1,6 @@
 //! Torso plane and shoulder heading.
 
-use crate::arrays::{contiguous, expect_last, expect_ndim, matrix, points, vector};
+use crate::arrays::{contiguous, expect_last, expect_ndim, matrix, points, sequence, vector};
 use crate::errors::{shape_error, to_py};
 use numpy::{AllowTypeChange, PyArray1, PyArrayLikeDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -134,9 +134,10 @@ pub fn fit_planes<'py>(
 #[pyfunction]
 pub fn shoulder_heading<'py>(
     py: Python<'py>,
-    left: [f64; 3],
-    right: [f64; 3],
+    left: Vec<f64>,
+    right: Vec<f64>,
 ) -> PyResult<(Bound<'py, PyArray1<f64>>, f64)> {
+    let (left, right) = (sequence("left", &left)?, sequence("right", &right)?);
     let h = torso_core::shoulder_heading(left, right).map_err(to_py)?;
     Ok((vector(py, &h.centre), h.azimuth))
 }

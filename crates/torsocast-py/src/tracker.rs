@@ -1,6 +1,6 @@
 //! The multi-person tracker: one call per frame, with the GIL released while the core works.
 
-use crate::arrays::{c_order, depth_size, matrix};
+use crate::arrays::{c_order, depth_size, matrix, sequence};
 use crate::config::TrackerConfig;
 use crate::errors::{shape_error, to_py};
 use crate::person::Observation;
@@ -239,12 +239,14 @@ impl Tracker {
         t: f64,
         keypoints: PyArrayLikeDyn<'py, f64, AllowTypeChange>,
         depth: PyArrayLikeDyn<'py, f32, AllowTypeChange>,
-        intrinsics: [f64; 4],
-        distortion: [f64; 5],
+        intrinsics: Vec<f64>,
+        distortion: Vec<f64>,
         camera_to_world: PyArrayLikeDyn<'py, f64, AllowTypeChange>,
         horizons: Option<Vec<f64>>,
     ) -> PyResult<(Bound<'py, PyArray3<f64>>, Vec<TrackOutcome>)> {
         let horizons = horizons_checked(horizons)?;
+        let intrinsics: [f64; 4] = sequence("intrinsics", &intrinsics)?;
+        let distortion: [f64; 5] = sequence("distortion", &distortion)?;
         let view = keypoints.as_array();
         rows(
             "keypoints",
