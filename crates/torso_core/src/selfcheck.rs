@@ -591,6 +591,23 @@ mod tests {
     const HOLD_ONLY: [f64; CANDIDATES] = [1.0, 0.0, 0.0, 0.0];
 
     #[test]
+    fn the_grid_rate_s_limit_is_spelled_out_as_the_constants_set_it() {
+        // The error text is a `&'static str` and cannot be formatted from the constants: this
+        // keeps its numbers from going stale when MAX_PREDICTIONS or the horizons change.
+        let longest = HORIZONS[H - 1];
+        let fastest = MAX_PREDICTIONS as f64 / longest;
+        let text = SelfCheck::slots(2.0 * fastest).unwrap_err().to_string();
+        for number in [
+            format!("at most {MAX_PREDICTIONS} predictions"),
+            format!("({longest} s)"),
+            format!("up to {fastest} Hz"),
+        ] {
+            assert!(text.contains(&number), "{number:?} not in {text:?}");
+        }
+        assert!(SelfCheck::slots(fastest).is_ok());
+    }
+
+    #[test]
     fn a_trend_that_comes_true_is_kept_and_one_that_does_not_is_dropped() {
         // Component 0 moves at 1 m/s: the plain trend says so, the damped one says half of it.
         // Component 3 stands still while both trends say it moves at 1 rad/s.
