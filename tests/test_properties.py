@@ -334,6 +334,12 @@ def test_an_array_with_the_wrong_number_of_dimensions_is_a_shape_error_naming_it
         call()
 
 
+def _step_empty_frame(intrinsics, distortion):
+    """A fresh tracker's step on a frame with nobody in it, through the given camera."""
+    keypoints, depth = np.zeros((0, 17, 3)), np.zeros((4, 4), np.float32)
+    return tc.Tracker().step(0.0, keypoints, depth, intrinsics, distortion, np.eye(4))
+
+
 @pytest.mark.parametrize(
     ("call", "name"),
     [
@@ -342,28 +348,8 @@ def test_an_array_with_the_wrong_number_of_dimensions_is_a_shape_error_naming_it
         (lambda: tc.ForecasterConfig("filter_spline", filter_components=[True] * 4), "filter_components"),
         (lambda: tc.shoulder_heading([0.0, 1.0], [1.0, 0.0, 0.0]), "left"),
         (lambda: tc.PersonConfig(surface_depth=(0.05,)), "surface_depth"),
-        (
-            lambda: tc.Tracker().step(
-                0.0,
-                np.zeros((0, 17, 3)),
-                np.zeros((4, 4), np.float32),
-                (1.0, 1.0, 1.0),
-                (0.0,) * 5,
-                np.eye(4),
-            ),
-            "intrinsics",
-        ),
-        (
-            lambda: tc.Tracker().step(
-                0.0,
-                np.zeros((0, 17, 3)),
-                np.zeros((4, 4), np.float32),
-                (1.0, 1.0, 2.0, 2.0),
-                (0.0,) * 4,
-                np.eye(4),
-            ),
-            "distortion",
-        ),
+        (lambda: _step_empty_frame((1.0, 1.0, 1.0), (0.0,) * 5), "intrinsics"),
+        (lambda: _step_empty_frame((1.0, 1.0, 2.0, 2.0), (0.0,) * 4), "distortion"),
     ],
 )
 def test_a_sequence_of_the_wrong_length_is_a_shape_error_naming_it(call, name):
@@ -371,6 +357,18 @@ def test_a_sequence_of_the_wrong_length_is_a_shape_error_naming_it(call, name):
     # that `except TorsocastError` did not catch.
     with pytest.raises(tc.ShapeError, match=f"`{name}` has shape"):
         call()
+
+
+def test_a_pose_of_the_wrong_length_leaves_the_forecaster_as_it_was():
+    f = tc.Forecaster()
+    f.update([0.1, 0.2, 1.0, 0.3, 0.0], 0.0)
+    before = f.history()
+    with pytest.raises(tc.ShapeError):
+        f.update([0.1, 0.2, 1.0, 0.3], 0.04)
+    after = f.history()
+    assert len(f) == 1 and f.last_time == 0.0
+    np.testing.assert_array_equal(after[0], before[0])
+    np.testing.assert_array_equal(after[1], before[1])
 
 
 def test_batch_calls_in_threads_give_the_serial_results():
