@@ -369,10 +369,20 @@ def test_two_runs_compare_their_forecasts_scene_by_scene(tmp_path, capsys):
     assert "| walking | azimuth | 0.4 s |" in out and "| +0.0 | +0.0 to +0.0 |" in out
     assert "| view 0 | centre | 0.4 s |" in out
     assert "0 of 6 cells better and 2 worse" in out and "holding still in 0 before, 2 after" in out
-    # A forecast record of other scenes is refused like a recovery record.
+    # A change to the tracking that leaves a scene with no forecast at all (its only track no
+    # longer confirmed) is compared over the same draws of the recovery's scenes.
+    kept = [
+        line
+        for line in (tmp_path / "b" / "forecasts.csv").read_text().splitlines()
+        if not line.startswith("s0,")
+    ]
+    (tmp_path / "b" / "forecasts.csv").write_text("\n".join(kept) + "\n")
+    assert main(["eval", "compare", str(tmp_path / "a"), str(tmp_path / "b")]) == 0
+    assert "| walking | centre | 0.4 s |" in capsys.readouterr().out
+    # A forecast record of a scene the recovery records do not hold is refused.
     (tmp_path / "b" / "forecasts.csv").write_text(",".join(head) + "\n" + ",".join(["x", *["0"] * 13]) + "\n")
     assert main(["eval", "compare", str(tmp_path / "a"), str(tmp_path / "b")]) == 2
-    assert "different scenes" in capsys.readouterr().err
+    assert "scenes their recovery records do not hold: x" in capsys.readouterr().err
     # A forecast record without the columns a comparison reads is refused the same way.
     (tmp_path / "b" / "forecasts.csv").write_text("scene,category,view,horizon\nx,walking,0,0.4\n")
     assert main(["eval", "compare", str(tmp_path / "a"), str(tmp_path / "b")]) == 2

@@ -189,11 +189,13 @@ def _eval_compare(args: argparse.Namespace) -> int:
 
     pairs = [(args.before, args.after), *(args.also or [])]
     try:
-        result = compare(*(pool([read(pair[k]) for pair in pairs]) for k in (0, 1)))
+        recovered = [pool([read(pair[k]) for pair in pairs]) for k in (0, 1)]
+        result = compare(*recovered)
         # Forecasts are compared where every run recorded them.
         found = [[f for pair in pairs if (f := read_forecasts(pair[k])) is not None] for k in (0, 1)]
         whole = all(len(side) == len(pairs) for side in found)
-        cells = compare_forecasts(pool(found[0]), pool(found[1])) if whole else None
+        scenes = recovered[0]["scene"]
+        cells = compare_forecasts(pool(found[0]), pool(found[1]), scenes) if whole else None
     except (OSError, ValueError, KeyError) as e:
         print(f"torsocast eval compare: {e}", file=sys.stderr)
         return 2

@@ -141,17 +141,24 @@ def compare(before: Columns, after: Columns) -> dict[str, Any]:
     return out
 
 
-def compare_forecasts(before: Columns, after: Columns) -> list[dict[str, Any]]:
+def compare_forecasts(
+    before: Columns, after: Columns, scenes: np.ndarray | None = None
+) -> list[dict[str, Any]]:
     """Per motion category and per view bin (the axes the report checks against holding still),
     component and horizon: both runs' median forecast error (in the report's units), the change,
     its paired interval over draws of the scenes (the same draws for both runs, each weighing its
     own forecasts of a drawn scene) and each run's median error of holding its own estimate still
     (``hold``, ``hold_after``). A change to the forecaster alone leaves the forecasts' instants
     as they were; a change to the tracking may add or drop some, which the draws take as they
-    come."""
-    if set(before["scene"]) != set(after["scene"]):
-        raise ValueError("the runs' forecasts are of different scenes")
-    names = np.unique(before["scene"])
+    come, down to every forecast of a scene (a track that is no longer confirmed). The draws are
+    of ``scenes`` (the runs' recovery records'), or where not given, of every scene either run
+    forecast in; a forecast of a scene not among ``scenes`` is refused."""
+    names = np.unique(np.concatenate([before["scene"], after["scene"]]) if scenes is None else scenes)
+    stray = sorted((set(before["scene"]) | set(after["scene"])) - set(names))
+    if stray:
+        raise ValueError(
+            f"the runs' forecasts are of scenes their recovery records do not hold: {', '.join(stray[:3])}"
+        )
     indices = [np.searchsorted(names, cols["scene"]) for cols in (before, after)]
     out = []
     for axis in CHECKED_AXES:
