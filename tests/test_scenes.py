@@ -378,7 +378,8 @@ def test_two_runs_compare_their_forecasts_scene_by_scene(tmp_path, capsys):
     ]
     (tmp_path / "b" / "forecasts.csv").write_text("\n".join(kept) + "\n")
     assert main(["eval", "compare", str(tmp_path / "a"), str(tmp_path / "b")]) == 0
-    assert "| walking | centre | 0.4 s |" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "| walking | centre | 0.4 s |" in out and "of 6 cells better" in out
     # A forecast record of a scene the recovery records do not hold is refused.
     (tmp_path / "b" / "forecasts.csv").write_text(",".join(head) + "\n" + ",".join(["x", *["0"] * 13]) + "\n")
     assert main(["eval", "compare", str(tmp_path / "a"), str(tmp_path / "b")]) == 2
