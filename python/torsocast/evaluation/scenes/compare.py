@@ -141,9 +141,7 @@ def compare(before: Columns, after: Columns) -> dict[str, Any]:
     return out
 
 
-def compare_forecasts(
-    before: Columns, after: Columns, scenes: np.ndarray | None = None
-) -> list[dict[str, Any]]:
+def compare_forecasts(before: Columns, after: Columns, scenes: np.ndarray) -> list[dict[str, Any]]:
     """Per motion category and per view bin (the axes the report checks against holding still),
     component and horizon: both runs' median forecast error (in the report's units), the change,
     its paired interval over draws of the scenes (the same draws for both runs, each weighing its
@@ -151,9 +149,9 @@ def compare_forecasts(
     (``hold``, ``hold_after``). A change to the forecaster alone leaves the forecasts' instants
     as they were; a change to the tracking may add or drop some, which the draws take as they
     come, down to every forecast of a scene (a track that is no longer confirmed). The draws are
-    of ``scenes`` (the runs' recovery records'), or where not given, of every scene either run
-    forecast in; a forecast of a scene not among ``scenes`` is refused."""
-    names = np.unique(np.concatenate([before["scene"], after["scene"]]) if scenes is None else scenes)
+    of ``scenes`` (the runs' recovery records'); a forecast of a scene not among them is
+    refused."""
+    names = np.unique(scenes)
     stray = sorted((set(before["scene"]) | set(after["scene"])) - set(names))
     if stray:
         raise ValueError(
