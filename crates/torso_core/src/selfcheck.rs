@@ -5,11 +5,12 @@
 //! while a detector's azimuth noise on a person standing still makes any fitted trend a guess.
 //! Each time the forecaster takes a sample, four predictions for each of [`HORIZONS`] are kept:
 //! holding still, the forecaster's damped trend, the same fit continued without damping, and
-//! constant velocity (the least-squares line through the history, [`crate::trend`]). When their
-//! time comes, each is scored against the sample then taken. Per pose component and horizon
-//! (the checked one nearest to the one asked for), the forecast given out is the mix of them
-//! that would have erred least on the recent scores (the minimum-variance convex weights of
-//! correlated predictors, from forgetting sums of their products of errors).
+//! constant velocity (the least-squares line through the history, a walk bent along a steady
+//! turn: [`crate::trend`]). When their time comes, each is scored against the sample then
+//! taken. Per pose component and horizon (the checked one nearest to the one asked for), the
+//! forecast given out is the mix of them that would have erred least on the recent scores (the
+//! minimum-variance convex weights of correlated predictors, from forgetting sums of their
+//! products of errors).
 //!
 //! Each component has a prior candidate, the one it forecasts with before any check: holding still,
 //! unless the track's history shows the component moving steadily: then constant velocity (a walk,
@@ -802,6 +803,7 @@ mod tests {
             scatter: [0.01, 0.01, 0.01, 0.05, 0.02],
             seen: 1.2,
             flipped: false,
+            walk_turn: 0.0,
         };
         let mut check = SelfCheck::new(25.0).unwrap();
         check.set_steady(trend.steady(), trend.seen);

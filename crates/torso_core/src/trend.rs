@@ -6,6 +6,10 @@
 //! How far a component's fitted rate stands from zero, in standard errors of the fit, tells the
 //! two apart from the history alone, before the self-check has had time to score a single
 //! forecast (a young track is the common case: a person turning round in front of the robot).
+//!
+//! A walk continued along the line goes straight on; people walk in curves, and they face where
+//! they walk, so a torso turning steadily while its path bends the same way bends the line's
+//! continuation with it ([`Trend::walk_turn`]).
 
 use crate::forecaster::Forecaster;
 use crate::{Pose, AZIMUTH, HEIGHT};
@@ -28,6 +32,12 @@ pub const STEADY_CENTRE: f64 = 5.0;
 /// on the scenes benchmark's development split (both draws; docs/benchmark.md); people walk at
 /// well over half a metre a second.
 pub const MIN_WALK_SPEED: f64 = 0.2;
+
+/// Shortest history (s) over which a steady turn of the torso bends a walk's continuation. A
+/// walker's torso twists to and fro with every stride (a stride takes about a second), and a line
+/// through less of the heading than that can take the twist for a turn (measured on the scenes
+/// benchmark's development split: docs/benchmark.md).
+pub const MIN_WALK_TURN_SEEN: f64 = 1.0;
 
 /// The residuals' lag-one autocorrelation is taken at most this: near one, the variance factor
 /// `(1 + ρ) / (1 - ρ)` of a mean of correlated residuals grows without bound.
@@ -57,6 +67,14 @@ pub struct Trend {
     /// history: a front/back flip of the estimate (no one turns that fast in a grid step), whose
     /// step a line would take for a turn.
     pub flipped: bool,
+    /// Rate (rad/s, counter-clockwise over the ground) at which [`continued`](Self::continued)
+    /// turns the centre's path: the azimuth's fitted rate where the azimuth turns steadily
+    /// ([`steady`](Self::steady)) over at least [`MIN_WALK_TURN_SEEN`] of history and the path's
+    /// own bend over the ground (a quadratic through the centre's history) turns the same way;
+    /// zero otherwise. The path's bend alone is too noisy a turn rate to continue (a quadratic's
+    /// velocity at the end of a short history); the torso's turn is steadier, but a person can
+    /// turn without walking round, which the path's bend rules out.
+    pub walk_turn: f64,
 }
 
 impl Trend {
@@ -85,6 +103,9 @@ impl Trend {
         let centre = (n - 1) as f64 / 2.0;
         let stt = n as f64 * ((n * n) as f64 - 1.0) / 12.0;
         let (mut sum, mut sty, mut syy) = ([0.0; 5], [0.0; 5], [0.0; 5]);
+        // The quadratic term over the ground, on dt² less its mean (orthogonal to 1 and dt).
+        let mean_tt = stt / n as f64;
+        let (mut suy, mut suu) = ([0.0; 2], 0.0);
         let mut flipped = false;
         let mut previous = sample(0)[AZIMUTH];
         for i in 0..n {
@@ -94,6 +115,10 @@ impl Trend {
                 sty[c] += dt * p[c];
                 syy[c] += p[c] * p[c];
             }
+            let u = dt * dt - mean_tt;
+            suu += u * u;
+            suy[0] += u * p[0];
+            suy[1] += u * p[1];
             flipped |= (p[AZIMUTH] - previous).abs() > FRAC_PI_2;
             previous = p[AZIMUTH];
         }
@@ -122,7 +147,7 @@ impl Trend {
             ((1.0 + rho) / (1.0 - rho)).sqrt()
         });
         let rate_hz = f.config().rate_hz;
-        Self {
+        let mut trend = Self {
             scatter: residual.map(|r| (r / (n - 2) as f64).sqrt()),
             seen: n as f64 / rate_hz,
             flipped,
@@ -136,13 +161,44 @@ impl Trend {
                     slope[c].abs() / error
                 }
             }),
+            walk_turn: 0.0,
+        };
+        // The path's turn rate: velocity x acceleration over speed squared, the acceleration
+        // twice the quadratic term (per sample², hence rate² per s²).
+        let [vx, vy] = [trend.rate[0], trend.rate[1]];
+        let [ax, ay] = suy.map(|q| 2.0 * q / suu * rate_hz * rate_hz);
+        let path_turn = vx * ay - vy * ax;
+        let turn = trend.rate[AZIMUTH];
+        if trend.steady()[AZIMUTH] && trend.seen >= MIN_WALK_TURN_SEEN && path_turn * turn > 0.0 {
+            trend.walk_turn = turn;
         }
+        trend
     }
 
     /// The constant-velocity prediction `horizon` seconds after `sample`: every component's
-    /// rate continued.
+    /// rate continued; where the walk turns ([`walk_turn`](Self::walk_turn)), the centre's
+    /// path over the ground at the same speed along an arc at that rate, for as long as the turn
+    /// has been seen and straight on after (as a steady turn of the azimuth itself is continued).
     pub fn continued(&self, sample: &Pose, horizon: f64) -> Pose {
-        std::array::from_fn(|c| sample[c] + self.rate[c] * horizon)
+        let mut ahead: Pose = std::array::from_fn(|c| sample[c] + self.rate[c] * horizon);
+        if self.walk_turn != 0.0 {
+            let w = self.walk_turn;
+            // The fitted rate is the path's mean velocity: its direction half a history ago.
+            let now = rotated([self.rate[0], self.rate[1]], w * self.seen / 2.0);
+            let turning = horizon.min(self.seen);
+            // Along the arc: the chord, at half the arc's turn; then straight on.
+            let half = w * turning / 2.0;
+            let chord = if half == 0.0 {
+                turning
+            } else {
+                turning * half.sin() / half
+            };
+            let arc = rotated(now, half).map(|v| v * chord);
+            let on = rotated(now, 2.0 * half).map(|v| v * (horizon - turning));
+            ahead[0] = sample[0] + arc[0] + on[0];
+            ahead[1] = sample[1] + arc[1] + on[1];
+        }
+        ahead
     }
 
     /// Per component, how far a forecast `horizon` seconds ahead may err by what this history
@@ -183,6 +239,12 @@ impl Trend {
             _ => self.significance[c] >= STEADY && !(c == AZIMUTH && self.flipped),
         })
     }
+}
+
+/// `v` turned counter-clockwise by `angle` (rad).
+fn rotated(v: [f64; 2], angle: f64) -> [f64; 2] {
+    let (s, c) = angle.sin_cos();
+    [c * v[0] - s * v[1], s * v[0] + c * v[1]]
 }
 
 #[cfg(test)]
@@ -307,6 +369,65 @@ mod tests {
         // The azimuth's stays the ordinary one.
         let turn = Trend::of(&history(step.iter().map(|&a| [0.0, 0.0, 1.0, a, 1.5])));
         assert!((turn.significance[AZIMUTH] - t).abs() < 1e-9 * t);
+    }
+
+    /// `n` samples at 25 Hz of a walk at 1 m/s round a circle of radius 2 m, counter-clockwise,
+    /// the chest facing along the path (or `facing_turn` times as fast, -1: the other way).
+    fn circle(n: usize, facing_turn: f64) -> (Forecaster, impl Fn(f64) -> [f64; 2]) {
+        let (radius, w) = (2.0, 0.5);
+        let at = move |t: f64| [radius * (w * t).cos(), radius * (w * t).sin()];
+        let f = history((0..n).map(|k| {
+            let t = k as f64 / 25.0;
+            let [x, y] = at(t);
+            [x, y, 1.0, facing_turn * w * t + FRAC_PI_2, 1.5]
+        }));
+        (f, at)
+    }
+
+    #[test]
+    fn a_walk_whose_torso_turns_with_its_path_is_continued_round_the_bend() {
+        let (f, at) = circle(50, 1.0);
+        let trend = Trend::of(&f);
+        assert!((trend.walk_turn - 0.5).abs() < 1e-9);
+        let last = f.sample(49).unwrap().0;
+        let t = 49.0 / 25.0;
+        for h in [0.4, 1.0, 2.0] {
+            let [x, y] = at(t + h);
+            let miss = |p: Pose| (p[0] - x).hypot(p[1] - y);
+            let bent = miss(trend.continued(&last, h));
+            let straight = miss(std::array::from_fn(|c| last[c] + trend.rate[c] * h));
+            // The line's mean velocity is a little slower than the walk round the circle (its
+            // chord): a few centimetres 2 s ahead, where the straight line misses by a metre.
+            assert!(
+                bent < 0.04 * h && straight > 0.3 * h,
+                "{h}: {bent} {straight}"
+            );
+        }
+        // Past the history it was seen over, the turn stops: straight on from there.
+        let (f, _) = circle(30, 1.0);
+        let trend = Trend::of(&f);
+        let last = f.sample(29).unwrap().0;
+        let ahead = [0.8, 1.0, 1.3, 1.6, 2.0].map(|h| trend.continued(&last, h));
+        let heading = |p: Pose, q: Pose| (q[1] - p[1]).atan2(q[0] - p[0]);
+        assert!((heading(ahead[2], ahead[3]) - heading(ahead[3], ahead[4])).abs() < 1e-9);
+        assert!(heading(ahead[1], ahead[2]) - heading(ahead[0], ahead[1]) > 0.05);
+    }
+
+    #[test]
+    fn a_turn_seen_briefly_or_against_the_path_bends_nothing() {
+        // Under a second of history: a stride's twist could be the turn.
+        let (f, _) = circle(20, 1.0);
+        assert!(Trend::of(&f).steady()[AZIMUTH] && Trend::of(&f).walk_turn == 0.0);
+        // The torso turning one way while the path bends the other.
+        let (f, _) = circle(50, -1.0);
+        let trend = Trend::of(&f);
+        assert!(trend.steady()[AZIMUTH] && trend.walk_turn == 0.0);
+        let last = f.sample(49).unwrap().0;
+        let line: Pose = std::array::from_fn(|c| last[c] + trend.rate[c] * 2.0);
+        assert_eq!(trend.continued(&last, 2.0), line);
+        // Turning on the spot: no path to bend.
+        let spot = history((0..50).map(|k| [1.0, 0.0, 1.0, 0.02 * k as f64, 1.5]));
+        assert_eq!(Trend::of(&spot).walk_turn, 0.0);
     }
 
     #[test]
