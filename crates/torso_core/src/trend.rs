@@ -103,9 +103,11 @@ impl Trend {
         let centre = (n - 1) as f64 / 2.0;
         let stt = n as f64 * ((n * n) as f64 - 1.0) / 12.0;
         let (mut sum, mut sty, mut syy) = ([0.0; 5], [0.0; 5], [0.0; 5]);
-        // The quadratic term over the ground, on dt² less its mean (orthogonal to 1 and dt).
+        // The quadratic term over the ground, on u = dt² less its mean (orthogonal to 1 and dt):
+        // Σ u·y per coordinate, and Σ u² in closed form as Σ dt² is.
         let mean_tt = stt / n as f64;
-        let (mut suy, mut suu) = ([0.0; 2], 0.0);
+        let suu = stt * ((n * n) as f64 - 4.0) / 15.0;
+        let mut suy = [0.0; 2];
         let mut flipped = false;
         let mut previous = sample(0)[AZIMUTH];
         for i in 0..n {
@@ -116,7 +118,6 @@ impl Trend {
                 syy[c] += p[c] * p[c];
             }
             let u = dt * dt - mean_tt;
-            suu += u * u;
             suy[0] += u * p[0];
             suy[1] += u * p[1];
             flipped |= (p[AZIMUTH] - previous).abs() > FRAC_PI_2;
@@ -417,7 +418,8 @@ mod tests {
     fn a_turn_seen_briefly_or_against_the_path_bends_nothing() {
         // Under a second of history: a stride's twist could be the turn.
         let (f, _) = circle(20, 1.0);
-        assert!(Trend::of(&f).steady()[AZIMUTH] && Trend::of(&f).walk_turn == 0.0);
+        let trend = Trend::of(&f);
+        assert!(trend.steady()[AZIMUTH] && trend.walk_turn == 0.0);
         // The torso turning one way while the path bends the other.
         let (f, _) = circle(50, -1.0);
         let trend = Trend::of(&f);
