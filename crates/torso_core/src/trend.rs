@@ -21,9 +21,12 @@ use std::f64::consts::FRAC_PI_2;
 /// split (docs/benchmark.md gives the effect of the rule).
 pub const STEADY: f64 = 10.0;
 
-/// How many standard errors, allowing for the residuals' correlation, a centre coordinate's
-/// fitted rate must stand from zero for the history to count as a steady walk. Chosen on the
-/// scenes benchmark's development split (both draws; docs/benchmark.md).
+/// How many standard errors, allowing for the residuals' correlation, the centre's fitted
+/// velocity over the ground must stand from zero for the history to count as a steady walk:
+/// the root sum of squares of the two coordinates' rates, each in its own standard errors, so
+/// that a walk is told the same whichever way it runs against the world's axes (a walk along a
+/// diagonal splits its rate between them). Chosen on the scenes benchmark's development split
+/// (both draws; docs/benchmark.md).
 pub const STEADY_CENTRE: f64 = 5.0;
 
 /// Slowest horizontal speed (m/s) of a steady walk. A slower line through the centre's history,
@@ -225,18 +228,20 @@ impl Trend {
         }))
     }
 
-    /// Per component, whether it moves steadily: its rate [`STEADY_CENTRE`] (centre over the
-    /// ground) or [`STEADY`] (angles) standard errors from zero; for the centre, at a walk's pace
-    /// ([`MIN_WALK_SPEED`] over the ground), and for the azimuth, with no flip in the history.
+    /// Per component, whether it moves steadily. The centre over the ground, both coordinates
+    /// together: its velocity [`STEADY_CENTRE`] standard errors from zero, at a walk's pace
+    /// ([`MIN_WALK_SPEED`]); a walk is continued whole or not at all. The angles: their rate
+    /// [`STEADY`] standard errors from zero, and for the azimuth, with no flip in the history.
     /// The centre's height never does: a torso rises or sinks only as far as the body lets it
     /// (a jump, sitting down, standing up), so a line through its recent heights is not one to
     /// continue for seconds (held still instead, no motion's forecasts on the scenes
     /// benchmark's development split got worse; docs/benchmark.md).
     pub fn steady(&self) -> [bool; 5] {
-        let walking = self.rate[0].hypot(self.rate[1]) >= MIN_WALK_SPEED;
+        let walking = self.rate[0].hypot(self.rate[1]) >= MIN_WALK_SPEED
+            && self.significance[0].hypot(self.significance[1]) >= STEADY_CENTRE;
         std::array::from_fn(|c| match c {
             HEIGHT => false,
-            0 | 1 => self.significance[c] >= STEADY_CENTRE && walking,
+            0 | 1 => walking,
             _ => self.significance[c] >= STEADY && !(c == AZIMUTH && self.flipped),
         })
     }
@@ -356,7 +361,7 @@ mod tests {
             walk.iter().map(|&x| [x, 0.0, 1.0 - 0.5 * x, 0.0, 1.5]),
         ));
         assert!(sitting.significance[HEIGHT] > STEADY_CENTRE);
-        assert_eq!(sitting.steady()[..3], [true, false, false]);
+        assert_eq!(sitting.steady()[..3], [true, true, false]);
         // A step: standing, then half a metre on, standing again. A line fits it with residuals
         // that run one way for a third of the history at a time: far fewer independent ones.
         let step: Vec<f64> = (0..50)
@@ -370,6 +375,48 @@ mod tests {
         // The azimuth's stays the ordinary one.
         let turn = Trend::of(&history(step.iter().map(|&a| [0.0, 0.0, 1.0, a, 1.5])));
         assert!((turn.significance[AZIMUTH] - t).abs() < 1e-9 * t);
+    }
+
+    #[test]
+    fn a_walk_is_told_by_its_velocity_over_the_ground_whichever_way_it_runs() {
+        // Half a second of a walk at 1 m/s, swaying across the path and jittering along it, along
+        // the x axis and along the diagonal: the same walk, so the same answer, for both
+        // coordinates at once.
+        let walk = |heading: f64| {
+            let (s, c) = heading.sin_cos();
+            history((0..12).map(move |k| {
+                let along = 0.04 * k as f64 + 0.08 * [1.0, -1.0, 0.5, 0.0][k % 4];
+                let across = 0.14 * [0.0, 1.0, 0.0, -1.0][k % 4];
+                [
+                    c * along - s * across,
+                    s * along + c * across,
+                    1.0,
+                    0.0,
+                    1.5,
+                ]
+            }))
+        };
+        let (straight, diagonal) = (
+            Trend::of(&walk(0.0)),
+            Trend::of(&walk(std::f64::consts::FRAC_PI_4)),
+        );
+        let ground = |t: &Trend| t.significance[0].hypot(t.significance[1]);
+        assert!(straight.significance[0] >= STEADY_CENTRE);
+        // On the diagonal neither coordinate alone stands the bar; the velocity does.
+        assert!(diagonal.significance[..2]
+            .iter()
+            .all(|&z| z < STEADY_CENTRE));
+        assert!(ground(&diagonal) >= STEADY_CENTRE);
+        assert!((ground(&diagonal) / ground(&straight) - 1.0).abs() < 0.25);
+        for trend in [straight, diagonal] {
+            assert_eq!(trend.steady()[..3], [true, true, false], "{trend:?}");
+        }
+        // The same sway about a level: no walk in either coordinate.
+        let still = Trend::of(&history((0..12).map(|k| {
+            let s = 0.08 * [1.0, -1.0, 0.5, 0.0][k % 4];
+            [s, 0.14 * [0.0, 1.0, 0.0, -1.0][k % 4], 1.0, 0.0, 1.5]
+        })));
+        assert_eq!(still.steady()[..2], [false, false]);
     }
 
     /// `n` samples at 25 Hz of a walk at 1 m/s round a circle of radius 2 m, counter-clockwise,
