@@ -27,7 +27,7 @@
 //! horizon's span as one (overlapping forecasts err together). A detector's noise makes most fitted
 //! trends of an angle, or of a person who stays in place, a guess, and a guess that wins a few
 //! recent scores by chance would otherwise be continued. The centre of a steady walk is the
-//! exception: it mixes its trends freely.
+//! exception: it mixes its trends freely, one mix for both its coordinates over the ground.
 
 use crate::error::{check_positive, Error, Result};
 use crate::quantile::RecentQuantile;
@@ -355,6 +355,15 @@ impl SelfCheck {
     fn solve(&self, k: usize) -> [[f64; CANDIDATES]; 5] {
         std::array::from_fn(|c| {
             // A walk's centre mixes its trends freely: gated, the walkers' forecasts came late.
+            // Over the ground, one mix for both coordinates, from the products of the error
+            // vectors (summed over x and y): a walk is one motion whichever way it runs against
+            // the world's axes, and each coordinate's own scores alone are half the evidence.
+            if c < 2 && self.steady[c] {
+                let ground = std::array::from_fn(|a| {
+                    std::array::from_fn(|b| self.sums[k][0][a][b] + self.sums[k][1][a][b])
+                });
+                return convex_min_variance(&ground, allowed(c), HOLD);
+            }
             if c < 3 && self.steady[c] {
                 return convex_min_variance(&self.sums[k][c], allowed(c), HOLD);
             }
@@ -719,6 +728,50 @@ mod tests {
         // Seen for a second: the walk is continued two seconds ahead, the turn not.
         let w = check.weights(2.0);
         assert_eq!((w[0], w[AZIMUTH]), ([0.0, 0.0, 0.0, 1.0], HOLD_ONLY));
+    }
+
+    #[test]
+    fn a_walk_s_two_coordinates_share_one_mix_whichever_way_it_runs() {
+        // A steady walk at 1 m/s whose plain trend errs across the path and whose line errs
+        // along it, run along x and along the diagonal: the same walk, so the same mix, and one
+        // for both coordinates.
+        let mix = |heading: f64| {
+            let (s, c) = heading.sin_cos();
+            let at = |along: f64, across: f64| {
+                [
+                    c * along - s * across,
+                    s * along + c * across,
+                    1.0,
+                    0.0,
+                    1.5,
+                ]
+            };
+            let mut check = SelfCheck::new(25.0).unwrap();
+            check.set_steady([true, true, false, false, false], 2.0);
+            for k in 0..150 {
+                let t = k as f64 / 25.0;
+                let wobble = if k % 3 == 0 { 0.1 } else { -0.05 };
+                let held = [at(t, 0.0); 3];
+                let plain = HORIZONS.map(|h| at(t + h, wobble * h));
+                let line = HORIZONS.map(|h| at(t + h + 0.5 * wobble * h, 0.0));
+                check.record(t, at(t, 0.0), &held, &plain, &line);
+            }
+            let w = check.weights(1.0);
+            (w[0], w[1])
+        };
+        let (x, y) = mix(0.0);
+        assert!(
+            x.iter().zip(y).all(|(a, b)| (a - b).abs() < 1e-12),
+            "{x:?} {y:?}"
+        );
+        assert!(x[2] > 0.05 && x[3] > 0.05, "a mix of the two trends: {x:?}");
+        let (dx, dy) = mix(std::f64::consts::FRAC_PI_4);
+        for w in [dx, dy] {
+            assert!(
+                w.iter().zip(x).all(|(a, b)| (a - b).abs() < 1e-9),
+                "{w:?} {x:?}"
+            );
+        }
     }
 
     #[test]
