@@ -353,19 +353,17 @@ impl SelfCheck {
     }
 
     fn solve(&self, k: usize) -> [[f64; CANDIDATES]; 5] {
+        // Over the ground, one mix for both coordinates of a walk, from the products of the
+        // error vectors (summed over x and y): a walk is one motion whichever way it runs
+        // against the world's axes, and each coordinate's own scores alone are half the evidence.
+        let ground: [[f64; CANDIDATES]; CANDIDATES] = std::array::from_fn(|a| {
+            std::array::from_fn(|b| self.sums[k][0][a][b] + self.sums[k][1][a][b])
+        });
         std::array::from_fn(|c| {
             // A walk's centre mixes its trends freely: gated, the walkers' forecasts came late.
-            // Over the ground, one mix for both coordinates, from the products of the error
-            // vectors (summed over x and y): a walk is one motion whichever way it runs against
-            // the world's axes, and each coordinate's own scores alone are half the evidence.
-            if c < 2 && self.steady[c] {
-                let ground = std::array::from_fn(|a| {
-                    std::array::from_fn(|b| self.sums[k][0][a][b] + self.sums[k][1][a][b])
-                });
-                return convex_min_variance(&ground, allowed(c), HOLD);
-            }
             if c < 3 && self.steady[c] {
-                return convex_min_variance(&self.sums[k][c], allowed(c), HOLD);
+                let sums = if c < 2 { &ground } else { &self.sums[k][c] };
+                return convex_min_variance(sums, allowed(c), HOLD);
             }
             let p = self.prior(c, k);
             let significant = (0..CANDIDATES)
