@@ -18,6 +18,7 @@ from torsocast.cli import main
 from torsocast.datasets import cmu
 from torsocast.evaluation.scenes.score import TrackSide, assign, flip_source, view_angle
 from torsocast.evaluation.scenes.tables import (
+    age_bin,
     distance_bin,
     flip_evidence_table,
     flip_source_table,
@@ -154,7 +155,7 @@ def test_a_detection_is_the_person_most_of_its_keypoints_fall_on():
     assert assign(keypoints, labels, 0.3) == [0, -1, 1, -1]
 
 
-def test_view_and_distance_bins():
+def test_view_distance_and_age_bins():
     assert list(view_bin(np.array([0.0, 22.4, 22.5, 100.0, 170.0, -170.0, -157.0, -60.0]))) == [
         0,
         0,
@@ -171,6 +172,14 @@ def test_view_and_distance_bins():
         "2-3 m",
         "3-4 m",
         "4 m and more",
+    ]
+    assert list(age_bin(np.array([0.0, 0.49, 0.5, 1.99, 2.0, 5.0]))) == [
+        "under 0.5 s",
+        "under 0.5 s",
+        "0.5-1 s",
+        "1-2 s",
+        "2 s and more",
+        "2 s and more",
     ]
 
 
@@ -558,6 +567,13 @@ def test_eval_scenes_quick_runs_and_its_numbers_come_back_for_the_seed(tmp_path,
         assert turning[h]["forecast_azimuth_median"] < 0.95 * turning[h]["hold_azimuth_median"]
     for row in tables["forecasts"]["all"]:
         assert row["forecast_elevation_median"] == pytest.approx(row["hold_elevation_median"], abs=0.1)
+    # Every forecast falls in one band of its track's age with the person, the youngest first.
+    by_age = tables["forecasts"]["age"]
+    assert by_age[0]["group"] == "under 0.5 s" and "By the track's age with the person" in text
+    for row in tables["forecasts"]["all"]:
+        banded = [r["forecasts"] for r in by_age if r["horizon"] == row["horizon"]]
+        assert len(banded) > 1 and sum(banded) == row["forecasts"]
+    assert {r["group"] for r in tables["coverage"]["age"]} == {r["group"] for r in by_age}
     # An angle's 80 % interval is at most half a turn: a wider one would hold every direction
     # too (the tracks whose errors are wildest reach it here).
     with open(tmp_path / "forecasts.csv") as f:

@@ -27,6 +27,7 @@ AXIS_NAMES = {
     "people": "people in the scene",
     "category": "motion category",
     "fps": "frame rate",
+    "age": "track's age with the person",
 }
 
 
@@ -166,6 +167,30 @@ def _forecast_by_md(rows: list[dict[str, Any]], axis: str, component: str) -> li
     return out
 
 
+def _forecast_by_age_md(rows: list[dict[str, Any]]) -> list[str]:
+    out = [
+        "Every forecast by how long its track had been with the person when it was made: a young "
+        "track's forecast rests on a short history and on few or none of its own checks.",
+        "",
+        f"| {AXIS_NAMES['age']} | horizon | forecasts | "
+        + " | ".join(
+            f"{component} ({UNIT[component]}): {METHOD_NAMES[m]} median / mean"
+            for component in ("centre", "azimuth")
+            for m in ("forecast", "hold", "velocity")
+        )
+        + " |",
+        "|---|---|---:|" + "---:|" * 6,
+    ]
+    for r in rows:
+        cells = [
+            " / ".join(_f(r[f"{m}_{component}_{s}"]) for s in ("median", "mean"))
+            for component in ("centre", "azimuth")
+            for m in ("forecast", "hold", "velocity")
+        ]
+        out.append(f"| {r['group']} | {_h(r['horizon'])} | {r['forecasts']} | " + " | ".join(cells) + " |")
+    return out
+
+
 def _flip_sources_md(rows: list[dict[str, Any]]) -> list[str]:
     out = [
         "Each flipped estimate by the first rule that explains it (`score.flip_source`): bad plane, "
@@ -244,6 +269,8 @@ def markdown(bench: Benchmark, t: dict[str, Any], figures: list[str]) -> str:
                 "",
             ]
             lines += _forecast_by_md(t["forecasts"][axis], axis, component)
+    if t["forecasts"].get("age"):
+        lines += ["", f"### By the {AXIS_NAMES['age']}", "", *_forecast_by_age_md(t["forecasts"]["age"])]
     lines += ["", "## Forecast intervals", ""]
     lines.append(
         "Share of forecasts whose true pose fell inside the 80 % interval the track gave with it "
@@ -252,7 +279,9 @@ def markdown(bench: Benchmark, t: dict[str, Any], figures: list[str]) -> str:
         "mean over its x, y and z intervals. A calibrated interval covers 80 %; given: the share of "
         "forecasts that came with one (a track gives none while its history is too short for a line)."
     )
-    for axis in ("all", "category", "view"):
+    for axis in ("all", "category", "view", "age"):
+        if axis not in t["coverage"]:
+            continue
         lines += ["", f"### {AXIS_NAMES[axis].capitalize()}" if axis != "all" else "### All", ""]
         lines += [
             f"| {AXIS_NAMES[axis]} | horizon | given | centre | azimuth | elevation |",

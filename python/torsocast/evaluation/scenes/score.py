@@ -130,6 +130,8 @@ class Scorer:
         self.velocity: dict[int, Forecaster] = {}
         self.seen_ids: dict[int, list[tuple[float, int | None]]] = defaultdict(list)
         self.sides: dict[tuple[int, int], TrackSide] = defaultdict(TrackSide)
+        #: When each track was first scored with each person (track key, person index).
+        self.since: dict[tuple[int, int], float] = {}
         spec = scene.spec
         self.conditions = {
             "scene": spec.name,
@@ -185,6 +187,7 @@ class Scorer:
             source, frames = "", 0
             if pose is not None and person is not None and person.key is not None:
                 side = self.sides[(person.key, actor)]
+                self.since.setdefault((person.key, int(actor)), t)
                 source = flip_source(float(err[3]), bool(person.observation.reoriented), side)
                 frames = side.frames
             r["flip_source"].append(source)
@@ -212,6 +215,7 @@ class Scorer:
             f = self.score.forecasts
             self._row(f, actor, t, now)
             f["horizon"].append(h)
+            f["track_age"].append(t - self.since.get((person.key, actor), t))
             for method, guess in zip(METHODS, (predicted, pose, cv[k], now)):
                 for component, e in zip(COMPONENTS, pose_errors(guess, then)):
                     f[f"{method}_{component}"].append(e)
