@@ -429,6 +429,12 @@ class Tracker:
         the tracks took them (NaN where unseen, without depth, or lifted onto someone nearer the
         camera) and each detection's outcome. A refused frame raises and changes nothing."""
     @property
+    def lifted(self) -> _F64:
+        """The last frame's joints ``(people, 17, 3)`` as given to :meth:`update` or lifted by
+        :meth:`step`, before the tracker dropped any read off someone nearer the camera:
+        :meth:`update` with them tracks the frame again as it was tracked (what a recording of
+        a stream keeps)."""
+    @property
     def tracks(self) -> list[TrackState]:
         """The confirmed tracks, in order of birth."""
     def forecast(self, track_id: int, horizons: Sequence[float]) -> _F64 | None:

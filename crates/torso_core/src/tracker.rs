@@ -219,6 +219,8 @@ pub struct Tracker {
     next_serial: u64,
     last_t: Option<f64>,
     // Per-frame working memory, sized by the bounds above.
+    /// The frame's joints as given or lifted; `joints`, those the tracks take (some dropped).
+    lifted: Vec<Joints>,
     joints: Vec<Joints>,
     scores: Vec<[f64; N_JOINTS]>,
     centres: Vec<[f64; 3]>,
@@ -243,6 +245,7 @@ impl Tracker {
             next_id: 1,
             next_serial: 1,
             last_t: None,
+            lifted: Vec::with_capacity(d),
             joints: Vec::with_capacity(d),
             scores: Vec::with_capacity(d),
             centres: Vec::with_capacity(d),
@@ -299,8 +302,8 @@ impl Tracker {
             });
         }
         self.check(t, scores.iter().copied(), camera_position)?;
-        self.joints.clear();
-        self.joints.extend_from_slice(joints);
+        self.lifted.clear();
+        self.lifted.extend_from_slice(joints);
         self.scores.clear();
         self.scores.extend_from_slice(scores);
         self.track(t, camera_position)
@@ -319,7 +322,7 @@ impl Tracker {
     ) -> Result<&[Outcome]> {
         let position = camera.position();
         self.check(t, keypoints.iter().map(|k| k.map(|p| p[2])), position)?;
-        self.joints.clear();
+        self.lifted.clear();
         self.scores.clear();
         let seen = keypoints
             .iter()
@@ -338,16 +341,25 @@ impl Tracker {
                     [f64::NAN; 3]
                 }
             });
-            self.joints.push(joints);
+            self.lifted.push(joints);
             self.scores.push(scores);
         }
         self.track(t, position)
     }
 
-    /// The joints of the last frame as the tracks were given them (for [`step`](Self::step),
-    /// the lifted joints; unseen ones NaN).
+    /// The joints of the last frame as the tracks took them: those given to
+    /// [`update`](Self::update) or lifted by [`step`](Self::step) (unseen ones NaN), less any
+    /// the tracker dropped as read off someone nearer the camera.
     pub fn joints(&self) -> &[Joints] {
         &self.joints
+    }
+
+    /// The joints of the last frame as given to [`update`](Self::update) or lifted by
+    /// [`step`](Self::step), before the tracker dropped any: [`update`](Self::update) with them
+    /// tracks the frame again as it was tracked (a recording of a stream replays it so; the
+    /// joints as the tracks took them would be judged a second time).
+    pub fn lifted(&self) -> &[Joints] {
+        &self.lifted
     }
 
     /// The person chain of the track in `slot` (from a [`TrackRef`] of the latest frame).
@@ -436,6 +448,8 @@ impl Tracker {
     /// `scores`.
     fn track(&mut self, t: f64, camera_position: [f64; 3]) -> Result<&[Outcome]> {
         self.last_t = Some(t);
+        self.joints.clear();
+        self.joints.extend_from_slice(&self.lifted);
         self.place_detections(camera_position);
         self.drop_read_off_nearer(camera_position);
         self.placeable.clear();
@@ -800,6 +814,49 @@ mod tests {
             );
             let kept = TORSO.map(|i| finite(&tracker.joints()[1][i]));
             assert_eq!(kept, [false, true, false, true], "frame {k}");
+        }
+    }
+
+    #[test]
+    fn a_frame_tracked_again_from_its_lifted_joints_is_tracked_as_it_was() {
+        // The scene above: the person behind shows joints on both people in front, and the
+        // tracks take only those not on the nearer one. A recording keeps the joints as lifted:
+        // tracked again, the frame's joints are judged from the same start.
+        let front = [body(2.85, -0.2), body(3.15, -0.8)];
+        let mut hidden = body(4.4, -0.5);
+        hidden[crate::coco::LEFT_SHOULDER] = [2.85, -0.35, 1.3];
+        hidden[crate::coco::LEFT_HIP] = [2.85, -0.3, 0.8];
+        hidden[crate::coco::RIGHT_SHOULDER] = [3.15, -0.65, 1.3];
+        hidden[crate::coco::RIGHT_HIP] = [3.15, -0.7, 0.8];
+        for i in 0..N_JOINTS {
+            if !TORSO.contains(&i) {
+                hidden[i] = [f64::NAN; 3];
+            }
+        }
+        let config = TrackerConfig {
+            min_hits: 1,
+            ..TrackerConfig::default()
+        };
+        let frame = [front[0], hidden, front[1]];
+        let (mut live, mut again) = (Tracker::new(config).unwrap(), Tracker::new(config).unwrap());
+        for k in 0..5 {
+            let t = k as f64 / 15.0;
+            let out = format!(
+                "{:?}",
+                live.update(t, &frame, &[SEEN; 3], [0.0; 3]).unwrap()
+            );
+            assert_eq!(format!("{:?}", live.lifted()), format!("{frame:?}"));
+            let lifted = live.lifted().to_vec();
+            let replayed = again.update(t, &lifted, &[SEEN; 3], [0.0; 3]).unwrap();
+            assert_eq!(format!("{replayed:?}"), out, "frame {k}");
+            assert_eq!(
+                format!("{:?}", again.joints()),
+                format!("{:?}", live.joints())
+            );
+            // The tracks took fewer of the person behind's joints than were lifted.
+            let kept = |joints: &Joints| TORSO.map(|i| finite(&joints[i]));
+            assert_eq!(kept(&live.joints()[1]), [false, true, false, true]);
+            assert_eq!(kept(&live.lifted()[1]), [true; 4]);
         }
     }
 

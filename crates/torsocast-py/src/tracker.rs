@@ -133,6 +133,21 @@ impl Tracker {
 }
 
 /// The horizons, checked before the frame changes anything.
+/// `joints` as a new (people, 17, 3) array.
+fn joints_array<'py>(py: Python<'py>, joints: &[Joints]) -> PyResult<Bound<'py, PyArray3<f64>>> {
+    let array = PyArray3::<f64>::zeros(py, [joints.len(), N_JOINTS, 3], false);
+    {
+        let mut rw = array.readwrite();
+        let out = rw
+            .as_slice_mut()
+            .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
+        for (dst, src) in out.chunks_exact_mut(3).zip(joints.iter().flatten()) {
+            dst.copy_from_slice(src);
+        }
+    }
+    Ok(array)
+}
+
 fn horizons_checked(horizons: Option<Vec<f64>>) -> PyResult<Vec<f64>> {
     let horizons = horizons.unwrap_or_default();
     torso_core::person::check_horizons(&horizons).map_err(to_py)?;
@@ -285,18 +300,16 @@ impl Tracker {
             Ok(())
         })
         .map_err(to_py)?;
-        let lifted = self.inner.joints();
-        let array = PyArray3::<f64>::zeros(py, [lifted.len(), N_JOINTS, 3], false);
-        {
-            let mut rw = array.readwrite();
-            let out = rw
-                .as_slice_mut()
-                .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
-            for (dst, src) in out.chunks_exact_mut(3).zip(lifted.iter().flatten()) {
-                dst.copy_from_slice(src);
-            }
-        }
+        let array = joints_array(py, self.inner.joints())?;
         Ok((array, self.outcomes(py, &horizons)?))
+    }
+
+    /// The last frame's joints (people, 17, 3) as given to `update` or lifted by `step`, before
+    /// the tracker dropped any read off someone nearer the camera: `update` with them tracks
+    /// the frame again as it was tracked (what a recording of a stream keeps).
+    #[getter]
+    fn lifted<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray3<f64>>> {
+        joints_array(py, self.inner.lifted())
     }
 
     /// The confirmed tracks, in order of birth.

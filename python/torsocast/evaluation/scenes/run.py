@@ -73,7 +73,9 @@ def _cache_file(cache: Path, spec: SceneSpec, model: KeypointModel) -> Path:
     turns = [a.turn for a in spec.actors if a.turn]  # not in the repr (see Actor.turn)
     variant = getattr(model, "variant", "")
     variant = f" {variant}" if variant else ""
-    text = f"{spec!r} {type(model).__name__} {model.input_size}{variant}"
+    # "lifted": the joints before the tracker dropped any (recordings of the joints as the
+    # tracks took them replayed some frames otherwise than the live run).
+    text = f"{spec!r} {type(model).__name__} {model.input_size}{variant} lifted"
     text += f" turns {turns}" if turns else ""
     key = hashlib.sha256(text.encode()).hexdigest()[:16]
     return cache / f"{spec.name}-{key}.npz"
@@ -89,7 +91,7 @@ def _live(scene: RenderedScene, pipeline: Pipeline, record: dict[str, list] | No
         visible = scene.visible(frame)
         if record is not None:
             record["keypoints"].append(result.detections.keypoints)
-            record["joints"].append(result.joints)
+            record["joints"].append(pipeline.tracker.lifted)
             record["owner"].append(np.asarray(owner, dtype=np.int64))
             record["visible"].append(visible)
         yield frame, result, owner, visible
