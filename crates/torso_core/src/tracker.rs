@@ -759,12 +759,9 @@ mod tests {
         }
     }
 
-    #[test]
-    fn a_person_lifted_among_the_people_in_front_opens_no_track_of_their_own() {
-        // Two people about 2.9 and 3.25 m from the camera, 0.7 m apart; a third one 4.4 m away
-        // behind them shows a shoulder and a hip on each, all read at their depths: lifted,
-        // that torso's centre lies between the two, further than the gate from the third
-        // person's own and further than MIN_SEPARATION from either front person's.
+    /// Two people about 2.9 and 3.25 m from the camera, 0.7 m apart, and a third one 4.4 m away
+    /// behind them who shows a shoulder and a hip on each, all read at their depths.
+    fn hidden_behind_two() -> ([Joints; 2], Joints) {
         let front = [body(2.85, -0.2), body(3.15, -0.8)];
         let mut hidden = body(4.4, -0.5);
         hidden[crate::coco::LEFT_SHOULDER] = [2.85, -0.35, 1.3];
@@ -776,6 +773,14 @@ mod tests {
                 hidden[i] = [f64::NAN; 3];
             }
         }
+        (front, hidden)
+    }
+
+    #[test]
+    fn a_person_lifted_among_the_people_in_front_opens_no_track_of_their_own() {
+        // Lifted, the person behind's torso centre lies between the two in front, further than
+        // the gate from their own and further than MIN_SEPARATION from either front person's.
+        let (front, hidden) = hidden_behind_two();
         let surface = PersonConfig {
             surface_depth: [0.0; 2],
             ..PersonConfig::default()
@@ -819,20 +824,10 @@ mod tests {
 
     #[test]
     fn a_frame_tracked_again_from_its_lifted_joints_is_tracked_as_it_was() {
-        // The scene above: the person behind shows joints on both people in front, and the
-        // tracks take only those not on the nearer one. A recording keeps the joints as lifted:
-        // tracked again, the frame's joints are judged from the same start.
-        let front = [body(2.85, -0.2), body(3.15, -0.8)];
-        let mut hidden = body(4.4, -0.5);
-        hidden[crate::coco::LEFT_SHOULDER] = [2.85, -0.35, 1.3];
-        hidden[crate::coco::LEFT_HIP] = [2.85, -0.3, 0.8];
-        hidden[crate::coco::RIGHT_SHOULDER] = [3.15, -0.65, 1.3];
-        hidden[crate::coco::RIGHT_HIP] = [3.15, -0.7, 0.8];
-        for i in 0..N_JOINTS {
-            if !TORSO.contains(&i) {
-                hidden[i] = [f64::NAN; 3];
-            }
-        }
+        // The person behind shows joints on both people in front, and the tracks take only
+        // those not on the nearer one. A recording keeps the joints as lifted: tracked again,
+        // the frame's joints are judged from the same start.
+        let (front, hidden) = hidden_behind_two();
         let config = TrackerConfig {
             min_hits: 1,
             ..TrackerConfig::default()
