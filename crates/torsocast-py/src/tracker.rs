@@ -132,7 +132,6 @@ impl Tracker {
     }
 }
 
-/// The horizons, checked before the frame changes anything.
 /// `joints` as a new (people, 17, 3) array.
 fn joints_array<'py>(py: Python<'py>, joints: &[Joints]) -> PyResult<Bound<'py, PyArray3<f64>>> {
     let array = PyArray3::<f64>::zeros(py, [joints.len(), N_JOINTS, 3], false);
@@ -148,6 +147,7 @@ fn joints_array<'py>(py: Python<'py>, joints: &[Joints]) -> PyResult<Bound<'py, 
     Ok(array)
 }
 
+/// The horizons, checked before the frame changes anything.
 fn horizons_checked(horizons: Option<Vec<f64>>) -> PyResult<Vec<f64>> {
     let horizons = horizons.unwrap_or_default();
     torso_core::person::check_horizons(&horizons).map_err(to_py)?;
