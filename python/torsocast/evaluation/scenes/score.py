@@ -45,11 +45,13 @@ YOUNG_FRAMES = 10
 
 @dataclass
 class TrackSide:
-    """What one track has done with one person's heading so far (:func:`flip_source`)."""
+    """What one track has done with one person's heading so far (:func:`flip_source`), and
+    since when (s) it has been with them (the age its forecasts are given by)."""
 
     frames: int = 0
     ever_right: bool = False
     turned_wrong: bool = False
+    since: float | None = None
 
 
 def flip_source(azimuth_error: float, reoriented: bool, side: TrackSide) -> str:
@@ -130,8 +132,6 @@ class Scorer:
         self.velocity: dict[int, Forecaster] = {}
         self.seen_ids: dict[int, list[tuple[float, int | None]]] = defaultdict(list)
         self.sides: dict[tuple[int, int], TrackSide] = defaultdict(TrackSide)
-        #: When each track was first scored with each person (track key, person index).
-        self.since: dict[tuple[int, int], float] = {}
         spec = scene.spec
         self.conditions = {
             "scene": spec.name,
@@ -187,7 +187,8 @@ class Scorer:
             source, frames = "", 0
             if pose is not None and person is not None and person.key is not None:
                 side = self.sides[(person.key, actor)]
-                self.since.setdefault((person.key, int(actor)), t)
+                if side.since is None:
+                    side.since = t
                 source = flip_source(float(err[3]), bool(person.observation.reoriented), side)
                 frames = side.frames
             r["flip_source"].append(source)
@@ -215,7 +216,8 @@ class Scorer:
             f = self.score.forecasts
             self._row(f, actor, t, now)
             f["horizon"].append(h)
-            f["track_age"].append(t - self.since.get((person.key, actor), t))
+            since = self.sides[(person.key, actor)].since
+            f["track_age"].append(t - since if since is not None else 0.0)
             for method, guess in zip(METHODS, (predicted, pose, cv[k], now)):
                 for component, e in zip(COMPONENTS, pose_errors(guess, then)):
                     f[f"{method}_{component}"].append(e)
