@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh clone: installs the package with its test extras, then runs
-# the Rust checks (format, clippy with warnings as errors, tests) and the Python ones (ruff, pytest).
+# the Rust checks (format, clippy with warnings as errors, tests) and the Python ones (ruff, mypy over
+# the package as pyproject.toml configures it, pytest).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 python3 -m pip install --quiet --upgrade pip
@@ -13,4 +14,5 @@ replay=$(cargo run --quiet --example replay -p torso_core)
 grep -q "track 1: .* s ahead" <<< "$replay"
 python3 -m ruff check python tests benches
 python3 -m ruff format --check python tests benches
+python3 -m mypy
 python3 -m pytest tests

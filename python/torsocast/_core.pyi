@@ -56,6 +56,8 @@ JOINT_STATUS: dict[str, int]
 
 _ArrayLike: TypeAlias = npt.ArrayLike
 _F64: TypeAlias = npt.NDArray[np.float64]
+# A list or a 1-D NumPy array: the binding reads any sequence of numbers.
+_Floats: TypeAlias = Sequence[float] | npt.NDArray[np.floating]
 
 class TorsocastError(ValueError): ...
 class InvalidArgumentError(TorsocastError): ...
@@ -90,7 +92,7 @@ def fit_planes(
     weights: _ArrayLike | None = None,
     min_orientation_cosine: float | None = None,
 ) -> dict[str, npt.NDArray[np.float64] | npt.NDArray[np.uint8]]: ...
-def shoulder_heading(left: Sequence[float], right: Sequence[float]) -> tuple[_F64, float]: ...
+def shoulder_heading(left: _Floats, right: _Floats) -> tuple[_F64, float]: ...
 
 @final
 class JointGate:
@@ -158,7 +160,7 @@ class ForecasterConfig:
         lam: float | None = None,
         lambda_unit: Literal["samples", "seconds"] | None = None,
         extrapolation: Literal["polynomial", "linear", "damped"] | None = None,
-        damping: Sequence[float] | None = None,
+        damping: _Floats | None = None,
     ) -> ForecasterConfig: ...
     @staticmethod
     def options() -> dict[str, list[str]]:
@@ -205,8 +207,8 @@ class ForecasterConfig:
 @final
 class Forecaster:
     def __new__(cls, config: ForecasterConfig | None = None) -> Forecaster: ...
-    def update(self, pose: Sequence[float], t: float, weight: float = 1.0) -> tuple[int, bool]: ...
-    def forecast(self, horizons: Sequence[float]) -> _F64: ...
+    def update(self, pose: _Floats, t: float, weight: float = 1.0) -> tuple[int, bool]: ...
+    def forecast(self, horizons: _Floats) -> _F64: ...
     def reset(self) -> None: ...
     def __len__(self) -> int: ...
     @property
@@ -220,7 +222,7 @@ class Forecaster:
     def history(self) -> tuple[_F64, _F64]: ...
 
 def forecast_batch(
-    histories: _ArrayLike, horizons: Sequence[float], config: ForecasterConfig | None = None
+    histories: _ArrayLike, horizons: _Floats, config: ForecasterConfig | None = None
 ) -> _F64: ...
 def linear_assignment(cost: _ArrayLike) -> tuple[npt.NDArray[np.uintp], npt.NDArray[np.uintp]]:
     """The pairs (rows, cols) that minimise the summed cost, every row or every column used once,
@@ -237,11 +239,11 @@ class Person:
     ) -> Observation:
         """One frame: ``joints (17, 3)`` in the world frame (NaN where missing), their
         ``scores`` and where the camera is. A refused frame raises and changes nothing."""
-    def forecast(self, horizons: Sequence[float]) -> _F64 | None:
+    def forecast(self, horizons: _Floats) -> _F64 | None:
         """``(len(horizons), 5)`` poses ``horizons`` seconds after the last grid sample, moved
         with the latest estimate (so that holding still holds it), azimuth wrapped; None until
         the history holds enough samples."""
-    def intervals(self, horizons: Sequence[float]) -> _F64 | None:
+    def intervals(self, horizons: _Floats) -> _F64 | None:
         """``(len(horizons), 5)`` half-widths of the central 80 % intervals around
         :meth:`forecast`: the spread of the track's recent forecast errors times the multiple of
         it that covered 80 % of them, or before any forecast was checked what the line through
@@ -274,7 +276,7 @@ class PersonConfig:
         motion_weight: float | None = None,
         self_check: bool | None = None,
         occlusion_ratio: float | None = None,
-        surface_depth: Sequence[float] | None = None,
+        surface_depth: _Floats | None = None,
     ) -> PersonConfig: ...
     @property
     def forecaster(self) -> ForecasterConfig:
@@ -408,7 +410,7 @@ class Tracker:
         joints: _ArrayLike,
         scores: _ArrayLike,
         camera_position: _ArrayLike,
-        horizons: Sequence[float] | None = None,
+        horizons: _Floats | None = None,
     ) -> list[TrackOutcome]:
         """One frame of world ``joints (people, 17, 3)`` (NaN where missing) with ``scores
         (people, 17)``; forecasts at ``horizons`` for confirmed tracks. A refused frame raises
@@ -421,7 +423,7 @@ class Tracker:
         intrinsics: tuple[float, float, float, float],
         distortion: tuple[float, float, float, float, float],
         camera_to_world: _ArrayLike,
-        horizons: Sequence[float] | None = None,
+        horizons: _Floats | None = None,
     ) -> tuple[_F64, list[TrackOutcome]]:
         """One frame of 2D ``keypoints (people, 17, 3)`` ``(u, v, score)`` with the ``(h, w)``
         depth image (m) registered to them, the intrinsics ``(fx, fy, cx, cy)``, Brown-Conrady
@@ -437,7 +439,7 @@ class Tracker:
     @property
     def tracks(self) -> list[TrackState]:
         """The confirmed tracks, in order of birth."""
-    def forecast(self, track_id: int, horizons: Sequence[float]) -> _F64 | None:
+    def forecast(self, track_id: int, horizons: _Floats) -> _F64 | None:
         """The confirmed track's ``(len(horizons), 5)`` forecast; None for an unknown id or a
         history too short."""
     def restart(self) -> None:

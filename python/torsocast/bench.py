@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from functools import partial
 
 import numpy as np
 
@@ -85,7 +86,7 @@ def measure(windows: int = 2000) -> list[tuple[str, float, float]]:
     rows = []
     for name, config in KINDS.items():
         single = best_time(frame_step(config, data[0], [1.0]))
-        batch = best_time(lambda c=config: forecast_batch(data, [0.4, 1.0, 2.0], c), repeat=3, number=1)
+        batch = best_time(partial(forecast_batch, data, [0.4, 1.0, 2.0], config), repeat=3, number=1)
         rows.append((name, single, batch / windows))
     return rows
 

@@ -117,14 +117,14 @@ class Pipeline:
             )
             self.frames += 1
             return FrameResult(frame, detections, None, [], {}, restarted_from=restarted_from)
-        camera = frame.camera
+        camera, depth = frame.camera, frame.depth
         k = camera.intrinsics
         joints, people = self._tracked(
             frame,
             lambda: self.tracker.step(
                 frame.time,
                 detections.keypoints,
-                frame.depth,
+                depth,
                 (k.fx, k.fy, k.cx, k.cy),
                 k.coefficients,
                 camera.camera_to_world,

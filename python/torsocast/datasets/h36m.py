@@ -238,10 +238,12 @@ def torso_poses(
     sides = "".join(torso_joints.values())
     world = joints[:, index] @ world_rotation(up).T
     planes = fit_planes(world, sides, min_orientation_cosine=0.0)
-    poses = np.column_stack([planes["centre"], planes["azimuth"], planes["elevation"]])
+    poses = np.column_stack([planes["centre"], planes["azimuth"], planes["elevation"]]).astype(
+        np.float64, copy=False
+    )
     ok = np.isfinite(poses[:, 3])
     poses[ok, 3] = np.unwrap(poses[ok, 3])
-    return poses, planes["status"]
+    return poses, planes["status"].astype(np.uint8, copy=False)
 
 
 @dataclass(frozen=True)

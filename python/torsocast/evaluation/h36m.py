@@ -31,7 +31,7 @@ def load(
     progress: Progress | None = None,
     torso_joints: Mapping[int, str] = h36m.TORSO_JOINTS,
     gravity_rule: str = "auto",
-) -> list[h36m.Sequence]:
+) -> tuple[list[h36m.Sequence], list[str]]:
     """Every available file of the subjects as a pose series (plane joints and gravity rule as
     :func:`torsocast.datasets.h36m.load_sequence` takes them), and a line for each file left out
     because it cannot be read or fails the gravity check (a take whose up axis cannot be found is

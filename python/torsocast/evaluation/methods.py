@@ -4,9 +4,11 @@ thesis does), and torsocast's default (the N = 1 fit continued as a damped trend
 
 from __future__ import annotations
 
+from typing import Literal
+
 from .._core import ForecasterConfig
 
-FILTERS = ("zero_phase", "causal", "off")
+FILTERS: tuple[Literal["zero_phase", "causal", "off"], ...] = ("zero_phase", "causal", "off")
 DEGREES = (0, 1, 2, 3)
 
 
@@ -40,6 +42,14 @@ for _d in DEGREES:
 
 def describe(config: ForecasterConfig) -> dict[str, object]:
     """A config's fields, for the JSON report."""
-    fields = ("method", "rate_hz", "history", "velocity_window", "filter", "filter_order", "cutoff_hz")
+    fields: tuple[str, ...] = (
+        "method",
+        "rate_hz",
+        "history",
+        "velocity_window",
+        "filter",
+        "filter_order",
+        "cutoff_hz",
+    )
     fields += ("degree", "lam", "lambda_unit", "extrapolation")
     return {name: getattr(config, name) for name in fields}

@@ -94,10 +94,10 @@ def select(sequences: list[Sequence], protocol: str, every: int = 10) -> Windows
         by_key = {(seq.subject, seq.action, seq.subaction): seq for seq in sequences}
         picks = []
         for subject, action in dict.fromkeys((seq.subject, seq.action) for seq in sequences):
-            pair = by_key.get((subject, action, 1)), by_key.get((subject, action, 2))
-            if pair[0] is None or pair[1] is None:
+            first, second = by_key.get((subject, action, 1)), by_key.get((subject, action, 2))
+            if first is None or second is None:
                 continue
-            for sub, start in srnn_starts(len(pair[0].poses), len(pair[1].poses)):
-                picks.append((pair[sub - 1], start))
+            for sub, start in srnn_starts(len(first.poses), len(second.poses)):
+                picks.append((first if sub == 1 else second, start))
         return cut_windows(picks)
     raise ValueError(f"protocol must be 'seeds' or 'dense', got {protocol!r}")

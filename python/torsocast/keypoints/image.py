@@ -41,7 +41,7 @@ def letterbox(
     h, w = image.shape[:2]
     scale = min(size / h, size / w)
     new_w, new_h = max(1, round(w * scale)), max(1, round(h * scale))
-    resized = np.asarray(Image.fromarray(image).resize((new_w, new_h), Image.BILINEAR))
+    resized = np.asarray(Image.fromarray(image).resize((new_w, new_h), Image.Resampling.BILINEAR))
     pad_x = (size - new_w) // 2 if centre else 0
     pad_y = (size - new_h) // 2 if centre else 0
     out = np.full((size, size, 3), fill, dtype=np.uint8)

@@ -6,6 +6,8 @@ from __future__ import annotations
 from collections.abc import Iterator
 from pathlib import Path
 
+import numpy as np
+
 from .frame import Frame, SkippedFrame
 
 
@@ -41,7 +43,8 @@ class VideoFile:
             while True:
                 ok, bgr = capture.read()
                 if ok:
-                    yield Frame(index, index / self.fps, cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB), None, None)
+                    rgb = np.asarray(cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB), dtype=np.uint8)
+                    yield Frame(index, index / self.fps, rgb, None, None)
                 elif index < self.frames:
                     yield SkippedFrame(
                         index, index / self.fps, f"{self.path}: frame {index} cannot be decoded"

@@ -113,7 +113,7 @@ def compare(before: Columns, after: Columns) -> dict[str, Any]:
         out[name]["low"], out[name]["high"] = low, high
 
     runs = [(cols, *_flips(cols)) for cols in (before, after)]
-    measures = [("flips", None)]
+    measures: list[tuple[str, str | None]] = [("flips", None)]
     if "confident" in before and "confident" in after:
         measures.append(("flips_confident", "confident"))
     for name, pick in measures:

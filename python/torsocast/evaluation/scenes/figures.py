@@ -27,12 +27,14 @@ def draw_all(bench: Benchmark, t: dict[str, Any], folder: Path) -> list[Path]:
 
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
+        from matplotlib.projections.polar import PolarAxes
     except ImportError:
         return written
     views = [r for r in t["recovery"]["view"] if r["person_frames"]]
     if views:
         fig = plt.figure(figsize=(5.5, 5))
         ax = fig.add_subplot(projection="polar")
+        assert isinstance(ax, PolarAxes)
         order = sorted(views, key=lambda r: float(r["group"]) % 360)
         theta = np.radians([float(r["group"]) for r in order] + [float(order[0]["group"])])
         for key, style, label in (

@@ -15,6 +15,7 @@ from __future__ import annotations
 import os
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -108,21 +109,19 @@ class Catalogue:
                     out.add(
                         f"cmu {action}",
                         f"cmu/{action}/{path.stem}",
-                        lambda p=path, a=action: cmu_motion(p, a),
+                        partial(cmu_motion, path, action),
                     )
         subject = H36M_SUBJECTS[split]
         pairs = h36m.available(h36m_root, subject) if h36m_root is not None else []
-        if not pairs:
+        if h36m_root is None or not pairs:
             out.notes.append(
                 f"no Human3.6M S{subject} files (--h36m or ${H36M_ENV}): Human3.6M motions left out"
             )
-        for action, sub in pairs:
-            name = f"h36m/S{subject}/{action}_{sub}"
-            out.add(
-                f"h36m {h36m_category(action)}",
-                name,
-                lambda a=action, s=sub: h36m_motion(h36m_root, subject, a, s),
-            )  # type: ignore[arg-type]
+        else:
+            for action, sub in pairs:
+                name = f"h36m/S{subject}/{action}_{sub}"
+                load = partial(h36m_motion, h36m_root, subject, action, sub)
+                out.add(f"h36m {h36m_category(action)}", name, load)
         if not out.entries:
             raise FileNotFoundError(f"no motions for the {split} split: " + "; ".join(out.notes))
         return out

@@ -22,7 +22,7 @@ import numpy.typing as npt
 
 from ... import wrap_angle
 from ...keypoints import KeypointModel, coco, open_model
-from ...sources import open_source
+from ...sources import SkippedFrame, open_source
 from ...synthetic.scenes import RenderedScene
 from .plan import CMU_ENV, H36M_ENV, Catalogue, Size, data_folder, draw_scene
 from .score import assign, view_angle
@@ -43,6 +43,8 @@ def view_class(degrees: float) -> str:
 def turntable_views(folder: str | Path) -> Iterator[tuple[npt.NDArray[np.uint8], float]]:
     """Colour frames of the turntable and the person's view angle (0 at frame 0, facing)."""
     for frame in open_source(folder):
+        if isinstance(frame, SkippedFrame):
+            continue  # a frame that cannot be read has no view to score
         r = frame.extra["R"]
         yield frame.color, float(np.degrees(wrap_angle(np.arctan2(r[0, 2], r[0, 0]))))
 

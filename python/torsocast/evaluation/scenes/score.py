@@ -156,40 +156,45 @@ class Scorer:
         none, :func:`assign`), ``visible`` which people count, ``truth`` their poses."""
         by_actor = {a: d for d, a in enumerate(owner) if a >= 0}
         self.score.false_positives += sum(1 for a in owner if a < 0)
-        for person in result.people:  # the velocity reference sees what the tracks see
-            obs = person.observation
-            if obs is None or obs.pose is None or person.key is None:
+        for tracked in result.people:  # the velocity reference sees what the tracks see
+            obs = tracked.observation
+            if obs is None or obs.pose is None or tracked.key is None:
                 continue
             # Keyed by the track's key, unique over the tracker's life.
-            f = self.velocity.setdefault(person.key, Forecaster(ForecasterConfig("constant_velocity")))
+            f = self.velocity.setdefault(tracked.key, Forecaster(ForecasterConfig("constant_velocity")))
             try:
                 f.update(obs.pose, t, 1.0)
             except TorsocastError:
                 pass
-        for actor in np.flatnonzero(visible):
-            actor = int(actor)
+        for index in np.flatnonzero(visible):
+            actor = int(index)
             if not np.isfinite(truth[actor]).all():
                 continue  # no true pose to score against (never for oriented mocap planes)
             d = by_actor.get(actor)
             person = result.people[d] if d is not None and d < len(result.people) else None
-            pose = person.observation.pose if person and person.observation else None
+            observation = person.observation if person is not None else None
+            pose = observation.pose if observation is not None else None
             r = self.score.recovery
             self._row(r, actor, t, truth[actor])
             r["estimated"].append(pose is not None)
-            r["confident"].append(pose is not None and bool(person and person.observation.heading_confident))
+            r["confident"].append(
+                pose is not None and observation is not None and bool(observation.heading_confident)
+            )
             r["facing_evidence"].append(
-                float(person.observation.facing_evidence) if pose is not None and person else float("nan")
+                float(observation.facing_evidence)
+                if pose is not None and observation is not None
+                else float("nan")
             )
             err = np.abs(pose - truth[actor]) if pose is not None else np.full(5, np.nan)
             err[3] = abs(float(wrap_angle(err[3])))
             for name, value in zip(POSE_COMPONENTS, err):
                 r[name].append(float(value))
             source, frames = "", 0
-            if pose is not None and person is not None and person.key is not None:
+            if pose is not None and observation is not None and person is not None and person.key is not None:
                 side = self.sides[(person.key, actor)]
                 if side.since is None:
                     side.since = t
-                source = flip_source(float(err[3]), bool(person.observation.reoriented), side)
+                source = flip_source(float(err[3]), bool(observation.reoriented), side)
                 frames = side.frames
             r["flip_source"].append(source)
             r["track_frames"].append(frames)

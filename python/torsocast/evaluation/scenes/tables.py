@@ -223,7 +223,7 @@ def flip_evidence_table(cols: Columns) -> list[dict[str, Any]]:
 def forecast_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
     """Per group and horizon: forecasts, and each method's median, mean and 90th percentile of
     each component's error (cm or degrees)."""
-    rows = []
+    rows: list[dict[str, Any]] = []
     if not cols:
         return rows
     for label, mask in groups(cols, axis):
@@ -244,7 +244,7 @@ def forecast_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
 def coverage_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
     """Per group and horizon: the share of forecasts whose truth fell inside their 80 %
     interval, per component (the centre: the mean over x, y and z), among forecasts that had one."""
-    rows = []
+    rows: list[dict[str, Any]] = []
     if not cols or "half_width_x" not in cols:
         return rows
 
@@ -267,7 +267,7 @@ def coverage_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
 
 def identity_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
     """Per group: people, the tracks they were given, identity switches and lost tracks."""
-    rows = []
+    rows: list[dict[str, Any]] = []
     if not cols:
         return rows
     for label, mask in groups(cols, axis):
