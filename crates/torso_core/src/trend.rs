@@ -60,7 +60,11 @@ pub struct Trend {
     /// `√((1 + ρ) / (1 - ρ))`, ρ taken from 0): a walker's sway or a stop in the history leaves
     /// residuals that run in one direction for a while, which count as fewer independent ones.
     /// The angles' is the ordinary one: a turning person's rate changes smoothly, and so
-    /// corrected the steady turns were missed (docs/benchmark.md).
+    /// corrected the steady turns were missed (docs/benchmark.md). The samples counted are the
+    /// forecaster's grid samples, the slots filled between two frames included: a camera slower
+    /// than the grid gives fewer independent samples than are counted, and a history of two or
+    /// three frames at 10 or 15 frames per second, filled along straight lines, has no residual
+    /// and an infinite significance (the walks it starts are mostly real: docs/benchmark.md).
     pub significance: Pose,
     /// Root-mean-square scatter of each component's history about its line.
     pub scatter: Pose,
