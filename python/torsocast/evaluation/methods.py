@@ -42,7 +42,7 @@ for _d in DEGREES:
 
 def describe(config: ForecasterConfig) -> dict[str, object]:
     """A config's fields, for the JSON report."""
-    fields: tuple[str, ...] = (
+    fields = (
         "method",
         "rate_hz",
         "history",
@@ -50,6 +50,9 @@ def describe(config: ForecasterConfig) -> dict[str, object]:
         "filter",
         "filter_order",
         "cutoff_hz",
+        "degree",
+        "lam",
+        "lambda_unit",
+        "extrapolation",
     )
-    fields += ("degree", "lam", "lambda_unit", "extrapolation")
     return {name: getattr(config, name) for name in fields}

@@ -112,8 +112,7 @@ class Catalogue:
                         partial(cmu_motion, path, action),
                     )
         subject = H36M_SUBJECTS[split]
-        pairs = h36m.available(h36m_root, subject) if h36m_root is not None else []
-        if h36m_root is None or not pairs:
+        if h36m_root is None or not (pairs := h36m.available(h36m_root, subject)):
             out.notes.append(
                 f"no Human3.6M S{subject} files (--h36m or ${H36M_ENV}): Human3.6M motions left out"
             )

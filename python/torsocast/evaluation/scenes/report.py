@@ -168,25 +168,18 @@ def _forecast_by_md(rows: list[dict[str, Any]], axis: str, component: str) -> li
 
 
 def _forecast_by_age_md(rows: list[dict[str, Any]]) -> list[str]:
+    columns = [(c, m) for c in ("centre", "azimuth") for m in ("forecast", "hold", "velocity")]
     out = [
         "Every forecast by how long its track had been with the person when it was made: a young "
         "track's forecast rests on a short history and on few or none of its own checks.",
         "",
         f"| {AXIS_NAMES['age']} | horizon | forecasts | "
-        + " | ".join(
-            f"{component} ({UNIT[component]}): {METHOD_NAMES[m]} median / mean"
-            for component in ("centre", "azimuth")
-            for m in ("forecast", "hold", "velocity")
-        )
+        + " | ".join(f"{c} ({UNIT[c]}): {METHOD_NAMES[m]} median / mean" for c, m in columns)
         + " |",
-        "|---|---|---:|" + "---:|" * 6,
+        "|---|---|---:|" + "---:|" * len(columns),
     ]
     for r in rows:
-        cells = [
-            " / ".join(_f(r[f"{m}_{component}_{s}"]) for s in ("median", "mean"))
-            for component in ("centre", "azimuth")
-            for m in ("forecast", "hold", "velocity")
-        ]
+        cells = [" / ".join(_f(r[f"{m}_{c}_{s}"]) for s in ("median", "mean")) for c, m in columns]
         out.append(f"| {r['group']} | {_h(r['horizon'])} | {r['forecasts']} | " + " | ".join(cells) + " |")
     return out
 
