@@ -12,9 +12,9 @@
 //!   frame where the track moved a far torso joint back to its depth from the last pose, only a
 //!   pair measured as read: the moved pair's normal points where the last pose did);
 //! - the face: the nose, seen in front and profile views, stands in front of the shoulders;
-//! - the knees: a knee bends forwards only, so a bent knee stands in front of the line from its
-//!   hip to its ankle; this reads where the keypoints are, not how they are labelled, so it
-//!   holds where the detector has the sides exchanged;
+//! - the knees: a knee bends forwards only, so a standing leg's bent knee stands in front of the
+//!   line from its hip to its ankle; this reads where the keypoints are, not how they are
+//!   labelled, so it holds where the detector has the sides exchanged;
 //! - the motion: people mostly face where they walk, when they walk fast enough to tell.
 //!
 //! When the weighed evidence turns against the heading, the track turns round: the heading and
@@ -29,7 +29,7 @@
 use crate::coco::{self, Joints, N_JOINTS};
 use crate::history::unwrap_near;
 use crate::plane::shoulder_heading;
-use crate::vec3::{distance, finite};
+use crate::vec3::{distance, dot, finite, sub};
 use std::f64::consts::{FRAC_PI_4, PI};
 
 /// A nose less than this (m) in front of the shoulders' midpoint, horizontally, says nothing.
@@ -363,6 +363,11 @@ pub fn nose_direction(joints: &Joints) -> Option<f64> {
 /// with the other's ankle, or reads a knee's depth off the other leg, bends that leg backwards,
 /// so one leg against the other says nothing). Which leg is labelled left does not matter, only
 /// that a leg's joints are one leg's.
+///
+/// A knee stands out of its leg's line at right angles to it (`knee_bend`), forwards and
+/// horizontally only where the leg stands: a leg whose line lies nearer the horizontal than the
+/// vertical (seated on the floor, the legs out in front) bends its knee upwards, and what is
+/// left horizontal is the knee fallen to one side, which says nothing of the heading.
 pub fn knee_direction(joints: &Joints) -> Option<f64> {
     let legs = [
         [coco::LEFT_HIP, coco::LEFT_KNEE, coco::LEFT_ANKLE],
@@ -374,8 +379,10 @@ pub fn knee_direction(joints: &Joints) -> Option<f64> {
             distance(joints[hip], joints[knee]),
             distance(joints[knee], joints[ankle]),
         );
+        let bend = knee_bend(joints[hip], joints[knee], joints[ankle]);
         (seen && thigh <= MAX_LEG_PROPORTION * shin && shin <= MAX_LEG_PROPORTION * thigh)
-            .then(|| [0, 1].map(|k| joints[knee][k] - 0.5 * (joints[hip][k] + joints[ankle][k])))
+            .then_some(bend)
+            .flatten()
     });
     let sum = offsets
         .iter()
@@ -388,6 +395,20 @@ pub fn knee_direction(joints: &Joints) -> Option<f64> {
         .flatten()
         .all(|o| o[0] * c + o[1] * s >= MIN_KNEE_OFFSET);
     every_leg.then_some(azimuth)
+}
+
+/// The horizontal part of the knee's offset from the line through its hip and ankle, taken at
+/// right angles to the line; `None` where the line lies nearer the horizontal than the vertical,
+/// or the hip and the ankle coincide. Taken from the line's midpoint instead, a sloping leg's
+/// offset holds the knee's place along the line as well as its bend: a knee nearer its hip than
+/// its ankle stands out towards the hip, backwards for a person seated with the legs out in front.
+fn knee_bend(hip: [f64; 3], knee: [f64; 3], ankle: [f64; 3]) -> Option<[f64; 2]> {
+    let (line, to_knee) = (sub(ankle, hip), sub(knee, hip));
+    let squared = dot(line, line);
+    (squared > 0.0 && line[2].abs() >= line[0].hypot(line[1])).then(|| {
+        let along = dot(to_knee, line) / squared;
+        [0, 1].map(|k| to_knee[k] - along * line[k])
+    })
 }
 
 /// The azimuth of a horizontal offset at least `min` long.
@@ -615,6 +636,28 @@ mod tests {
         assert!(error(knee_direction(&hidden).unwrap(), 0.0) < 1e-12);
         hidden[coco::LEFT_KNEE] = [1.9, -0.1, 0.8];
         assert_eq!(knee_direction(&hidden), None);
+        // Seated on a chair facing +x, the thighs level and the shins down: the legs' lines
+        // slope down a little steeper than 45 degrees, and the knees stand out of them forwards.
+        let mut seated = joints;
+        let legs = [
+            (coco::LEFT_HIP, coco::LEFT_KNEE, coco::LEFT_ANKLE, -0.1),
+            (coco::RIGHT_HIP, coco::RIGHT_KNEE, coco::RIGHT_ANKLE, 0.1),
+        ];
+        for (hip, knee, ankle, y) in legs {
+            seated[hip] = [2.15, y, 0.5];
+            seated[knee] = [2.45, y, 0.5];
+            seated[ankle] = [2.55, y, 0.05];
+        }
+        assert!(error(knee_direction(&seated).unwrap(), 0.0) < 1e-12);
+        // Seated on the floor, the legs out in front, the knees raised and fallen to one side:
+        // the legs' lines lie nearer the horizontal, and their knees say nothing. (Measured from
+        // the lines' midpoints, knees nearer the hips than the ankles stood out backwards.)
+        for (hip, knee, ankle, y) in legs {
+            seated[hip] = [2.0, y, 0.3];
+            seated[knee] = [2.3, y + 0.1, 0.45];
+            seated[ankle] = [2.75, y, 0.08];
+        }
+        assert_eq!(knee_direction(&seated), None);
         // One leg seen is enough; straight legs say nothing.
         joints[coco::RIGHT_ANKLE] = [f64::NAN; 3];
         assert!(error(knee_direction(&joints).unwrap(), 0.0) < 1e-12);
