@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh clone: installs the package with its test extras, then runs
 # the Rust checks (format, clippy with warnings as errors, tests) and the Python ones (ruff, mypy over
-# the package as pyproject.toml configures it, pytest).
+# the package, the tests and the benchmarks as pyproject.toml configures it, pytest).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 python3 -m pip install --quiet --upgrade pip
