@@ -374,8 +374,8 @@ def test_two_runs_compare_their_forecasts_scene_by_scene(tmp_path, capsys):
                     f.write(",".join(str(v) for v in [*r[:8], r[8] + extra, *r[9:]]) + "\n")
     assert main(["eval", "compare", str(tmp_path / "a"), str(tmp_path / "b")]) == 0
     out = capsys.readouterr().out
-    assert "| walking | centre | 0.4 s |" in out and "| +1.0 | +1.0 to +1.0 |" in out
-    assert "| walking | azimuth | 0.4 s |" in out and "| +0.0 | +0.0 to +0.0 |" in out
+    assert "| walking | centre | 0.4 s |" in out and "| +1.0 | +1.0 to +1.0 | worse |" in out
+    assert "| walking | azimuth | 0.4 s |" in out and "| +0.0 | +0.0 to +0.0 |  |" in out
     assert "| view 0 | centre | 0.4 s |" in out
     assert "0 of 6 cells better and 2 worse" in out and "holding still in 0 before, 2 after" in out
     # A change to the tracking that leaves a scene with no forecast at all (its only track no

@@ -200,21 +200,23 @@ def compare_forecasts(before: Columns, after: Columns, scenes: np.ndarray) -> li
 
 
 def forecasts_markdown(cells: list[dict[str, Any]]) -> str:
-    """The forecast comparison as a Markdown table (holding still: the first run's), with a count
-    of the changes beyond the draw and of the cells where each run is worse than holding its own
-    estimate still."""
+    """The forecast comparison as a Markdown table (holding still: the first run's), each change
+    beyond the draw marked (the interval is printed rounded, and a bound that rounds to zero does
+    not say on which side of it it lies), with a count of those changes and of the cells where
+    each run is worse than holding its own estimate still."""
     head = "| motion category or view | component | horizon | hold | before | after | change |"
     lines = [
-        f"{head} its {100 * INTERVAL:g} % interval |",
-        "|---|---|---:|---:|---:|---:|---:|---:|",
+        f"{head} its {100 * INTERVAL:g} % interval | beyond the draw |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---|",
     ]
     for c in cells:
         numbers = (f"{c[k]:.1f}" for k in ("hold", "before", "after"))
         change, low, high = (f"{c[k]:+.1f}" for k in ("change", "low", "high"))
+        beyond = "better" if c["high"] < 0 else "worse" if c["low"] > 0 else ""
         lines.append(
             f"| {c['group'] if c['axis'] == 'category' else 'view ' + c['group']} | {c['component']} "
             f"| {c['horizon']:g} s | {' | '.join(numbers)} "
-            f"| {change} | {low} to {high} |"
+            f"| {change} | {low} to {high} | {beyond} |"
         )
     better = sum(c["high"] < 0 for c in cells)
     worse = sum(c["low"] > 0 for c in cells)
