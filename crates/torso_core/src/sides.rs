@@ -34,6 +34,10 @@ use std::f64::consts::{FRAC_PI_4, PI};
 
 /// A nose less than this (m) in front of the shoulders' midpoint, horizontally, says nothing.
 const MIN_NOSE_OFFSET: f64 = 0.03;
+/// A nose more than this (m) from the shoulders' midpoint, horizontally, says nothing: a head
+/// reaches no further in front of the shoulders, even bowed, and a nose that far had its depth
+/// read off another surface (the background past the face's edge, someone else).
+const MAX_NOSE_OFFSET: f64 = 0.5;
 /// Knees less than this (m) in front of their hip-to-ankle lines, horizontally, say nothing.
 const MIN_KNEE_OFFSET: f64 = 0.03;
 /// A leg whose lifted thigh and shin differ in length by more than this factor says nothing: a
@@ -347,14 +351,17 @@ pub fn label_vote(joints: &Joints, labelled: f64, completed: &[bool; N_JOINTS]) 
 }
 
 /// Horizontal direction (azimuth) from the shoulders' midpoint to the nose, where the nose and
-/// both shoulders are seen (finite) and the nose stands out at least `MIN_NOSE_OFFSET`.
+/// both shoulders are seen (finite) and the nose stands out at least `MIN_NOSE_OFFSET` and at
+/// most `MAX_NOSE_OFFSET`.
 pub fn nose_direction(joints: &Joints) -> Option<f64> {
     let [n, l, r] = [coco::NOSE, coco::LEFT_SHOULDER, coco::RIGHT_SHOULDER];
     if ![n, l, r].iter().all(|&i| finite(&joints[i])) {
         return None;
     }
     let offset = [0, 1].map(|k| joints[n][k] - 0.5 * (joints[l][k] + joints[r][k]));
-    direction(offset, MIN_NOSE_OFFSET)
+    (offset[0].hypot(offset[1]) <= MAX_NOSE_OFFSET)
+        .then(|| direction(offset, MIN_NOSE_OFFSET))
+        .flatten()
 }
 
 /// Horizontal direction in which the knees stand out of the lines from their hips to their
@@ -675,6 +682,9 @@ mod tests {
         joints[coco::NOSE] = [1.9, 0.0, 1.65];
         assert!(error(nose_direction(&joints).unwrap(), PI) < 1e-12);
         joints[coco::NOSE] = [1.99, 0.0, 1.65];
+        assert_eq!(nose_direction(&joints), None);
+        // Its depth read off the wall behind: no nose stands 2 m behind its shoulders.
+        joints[coco::NOSE] = [4.0, 0.0, 1.65];
         assert_eq!(nose_direction(&joints), None);
         joints[coco::NOSE] = [f64::NAN; 3]; // not seen
         assert_eq!(nose_direction(&joints), None);
