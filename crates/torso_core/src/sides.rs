@@ -359,9 +359,7 @@ pub fn nose_direction(joints: &Joints) -> Option<f64> {
         return None;
     }
     let offset = [0, 1].map(|k| joints[n][k] - 0.5 * (joints[l][k] + joints[r][k]));
-    (offset[0].hypot(offset[1]) <= MAX_NOSE_OFFSET)
-        .then(|| direction(offset, MIN_NOSE_OFFSET))
-        .flatten()
+    direction(offset, MIN_NOSE_OFFSET).filter(|_| offset[0].hypot(offset[1]) <= MAX_NOSE_OFFSET)
 }
 
 /// Horizontal direction in which the knees stand out of the lines from their hips to their
@@ -386,9 +384,8 @@ pub fn knee_direction(joints: &Joints) -> Option<f64> {
             distance(joints[hip], joints[knee]),
             distance(joints[knee], joints[ankle]),
         );
-        let bend = knee_bend(joints[hip], joints[knee], joints[ankle]);
         (seen && thigh <= MAX_LEG_PROPORTION * shin && shin <= MAX_LEG_PROPORTION * thigh)
-            .then_some(bend)
+            .then(|| knee_bend(joints[hip], joints[knee], joints[ankle]))
             .flatten()
     });
     let sum = offsets

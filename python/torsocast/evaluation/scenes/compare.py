@@ -209,17 +209,16 @@ def forecasts_markdown(cells: list[dict[str, Any]]) -> str:
         f"{head} its {100 * INTERVAL:g} % interval | beyond the draw |",
         "|---|---|---:|---:|---:|---:|---:|---:|---|",
     ]
-    for c in cells:
+    verdicts = ["better" if c["high"] < 0 else "worse" if c["low"] > 0 else "" for c in cells]
+    for c, verdict in zip(cells, verdicts):
         numbers = (f"{c[k]:.1f}" for k in ("hold", "before", "after"))
         change, low, high = (f"{c[k]:+.1f}" for k in ("change", "low", "high"))
-        beyond = "better" if c["high"] < 0 else "worse" if c["low"] > 0 else ""
         lines.append(
             f"| {c['group'] if c['axis'] == 'category' else 'view ' + c['group']} | {c['component']} "
             f"| {c['horizon']:g} s | {' | '.join(numbers)} "
-            f"| {change} | {low} to {high} | {beyond} |"
+            f"| {change} | {low} to {high} | {verdict} |"
         )
-    better = sum(c["high"] < 0 for c in cells)
-    worse = sum(c["low"] > 0 for c in cells)
+    better, worse = verdicts.count("better"), verdicts.count("worse")
     lost = [sum(c[k] > c[h] for c in cells) for k, h in (("before", "hold"), ("after", "hold_after"))]
     return "\n".join(lines) + (
         f"\n\nMedian forecast errors (centre cm, angles deg): {better} of {len(cells)} cells better and "

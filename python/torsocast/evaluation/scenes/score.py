@@ -173,24 +173,22 @@ class Scorer:
             d = by_actor.get(actor)
             person = result.people[d] if d is not None and d < len(result.people) else None
             observation = person.observation if person is not None else None
+            if observation is not None and observation.pose is None:
+                observation = None  # no estimate this frame: nothing of it is scored
             pose = observation.pose if observation is not None else None
             r = self.score.recovery
             self._row(r, actor, t, truth[actor])
             r["estimated"].append(pose is not None)
-            r["confident"].append(
-                pose is not None and observation is not None and bool(observation.heading_confident)
-            )
+            r["confident"].append(observation is not None and bool(observation.heading_confident))
             r["facing_evidence"].append(
-                float(observation.facing_evidence)
-                if pose is not None and observation is not None
-                else float("nan")
+                float(observation.facing_evidence) if observation is not None else float("nan")
             )
             err = np.abs(pose - truth[actor]) if pose is not None else np.full(5, np.nan)
             err[3] = abs(float(wrap_angle(err[3])))
             for name, value in zip(POSE_COMPONENTS, err):
                 r[name].append(float(value))
             source, frames = "", 0
-            if pose is not None and observation is not None and person is not None and person.key is not None:
+            if observation is not None and person is not None and person.key is not None:
                 side = self.sides[(person.key, actor)]
                 if side.since is None:
                     side.since = t
