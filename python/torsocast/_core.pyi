@@ -293,7 +293,10 @@ class PersonConfig:
         """Keypoints scored below this are missing (the one seen-keypoint rule of every stage)."""
     @property
     def facing_memory(self) -> float:
-        """Time constant (s) over which the evidence for which way the chest faces is forgotten."""
+        """Time constant (s) over which the recent evidence for which way the chest faces is
+        forgotten: what makes a heading confident (``heading_confident``, ``facing_evidence``).
+        The side itself is decided on evidence forgotten as the person turns, and only slowly
+        with time."""
     @property
     def face_weight(self) -> float:
         """Weight of the nose standing in front of the shoulders, relative to the labels'."""
@@ -501,8 +504,9 @@ class Observation:
     def reoriented(self) -> bool: ...
     @property
     def facing_evidence(self) -> float:
-        """The track's weighed evidence for its heading after this frame, in seconds of the
-        detector's labels agreeing (0 where the frame had no heading)."""
+        """The track's recent weighed evidence for its heading after this frame, in seconds of
+        the detector's labels agreeing (0 where the frame had no heading, or where the recent
+        evidence is against a heading the longer evidence still holds)."""
     @property
     def heading_confident(self) -> bool:
         """A cue other than the detector's labels (the face, bent knees, the walking direction)

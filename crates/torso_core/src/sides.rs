@@ -5,8 +5,8 @@
 //! people, profile views), often for many frames in a row. So a track keeps its heading
 //! continuous (each frame takes the side of the torso line nearer the heading of the last fifth
 //! of a second, not of the last frame alone, so that one frame whose plane is badly off cannot
-//! carry the heading a quarter turn round and the next onto the back) and weighs, with a memory
-//! of a second or so, four cues to whether that heading or its opposite is the chest's:
+//! carry the heading a quarter turn round and the next onto the back) and weighs four cues to
+//! whether that heading or its opposite is the chest's:
 //!
 //! - the labels: the labelled plane's normal on the heading's side or the opposite one (in a
 //!   frame where the track moved a far torso joint back to its depth from the last pose, only a
@@ -17,11 +17,17 @@
 //!   labelled, so it holds where the detector has the sides exchanged;
 //! - the motion: people mostly face where they walk, when they walk fast enough to tell.
 //!
-//! When the weighed evidence turns against the heading, the track turns round: the heading and
-//! everything the track remembers of the body's sides are reversed. The labels alone, however
-//! long they agree, build about a memory's worth of evidence; a heading with more than that has
-//! been confirmed recently by another cue, and is reported confident unless the frame's torso
-//! line lies far across the recent heading (a bad plane). The decision owns the side of the pose
+//! The evidence is weighed twice. The side is decided on evidence forgotten as the person turns
+//! (the recent heading's sweep, `SIDE_TURN`) and only slowly with time (`SIDE_MEMORY`): which
+//! side is the chest does not change while the person does not turn, and a detector's labels
+//! can stay exchanged for longer than a second while a person stands still, where evidence
+//! forgotten with time alone would let them turn the track round onto its back. When that
+//! evidence turns against the heading, the track turns round: the heading and everything the
+//! track remembers of the body's sides are reversed. Whether the heading is confident is judged
+//! on the recent evidence, forgotten over [`FacingConfig::memory`] (a second): the labels alone,
+//! however long they agree, build about a memory's worth of it; a heading with more than that
+//! has been confirmed recently by another cue, and is reported confident unless the frame's
+//! torso line lies far across the recent heading (a bad plane). The decision owns the side of the pose
 //! the track reports ([`Facing::opposes`]), the plane fitted after the gate only its line; and
 //! where that line lies far across the recent heading, the pose reports the recent heading
 //! ([`Facing::across_recent`]).
@@ -30,7 +36,7 @@ use crate::coco::{self, Joints, N_JOINTS};
 use crate::history::unwrap_near;
 use crate::plane::shoulder_heading;
 use crate::vec3::{distance, dot, finite, sub};
-use std::f64::consts::{FRAC_PI_4, PI};
+use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 
 /// A nose less than this (m) in front of the shoulders' midpoint, horizontally, says nothing.
 const MIN_NOSE_OFFSET: f64 = 0.03;
@@ -52,6 +58,14 @@ const MAX_LEG_PROPORTION: f64 = 2.0;
 const MAX_CONFIDENT_TURN: f64 = FRAC_PI_4;
 /// Time constant (s) of the recent heading whose side of the torso line a frame takes.
 const REFERENCE_TIME: f64 = 0.2;
+/// The recent heading's turn (rad) over which the evidence that decides the side is forgotten
+/// (to 1/e): a quarter turn takes a front view to a profile, where the cues read otherwise.
+/// Dev: an eighth or a half turn flipped more (docs/benchmark.md).
+const SIDE_TURN: f64 = FRAC_PI_2;
+/// Time constant (s) over which the evidence that decides the side is forgotten while the
+/// person does not turn, so that evidence built wrong does not hold a still person's heading
+/// for ever. Dev: 2 s and none flipped about as often.
+const SIDE_MEMORY: f64 = 3.0;
 /// Walking slower than this (m/s) says nothing of the heading; the motion cue reaches its full
 /// weight `FULL_SPEED_SPAN` faster.
 const MIN_SPEED: f64 = 0.5;
@@ -73,7 +87,9 @@ const MAX_STEP: f64 = 0.2;
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FacingConfig {
-    /// Time constant (s) over which evidence is forgotten.
+    /// Time constant (s) over which the recent evidence is forgotten: what says whether the
+    /// heading is confident ([`Decision::confident`]). The side itself is decided on evidence
+    /// kept longer, forgotten as the person turns (module docs).
     pub memory: f64,
     /// Weight of the nose cue, relative to the labels' (1 per 0.04 s of agreement).
     pub face_weight: f64,
@@ -150,8 +166,9 @@ pub struct Decision {
     pub turned: bool,
     /// The heading (the chest's azimuth, unwrapped near the previous one).
     pub heading: f64,
-    /// The weighed evidence for the heading after this frame, in seconds of the labels'
-    /// agreement (0 or more).
+    /// The recent weighed evidence for the heading after this frame, in seconds of the labels'
+    /// agreement, forgotten over [`FacingConfig::memory`]; 0 where the recent evidence is
+    /// against the heading and the longer evidence that decides the side still holds it.
     pub evidence: f64,
     /// The evidence is more than the labels alone can build at this frame rate (about
     /// [`FacingConfig::memory`] seconds' worth, approached and never passed): a cue other
@@ -179,6 +196,9 @@ pub struct Decision {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Facing {
     heading: Option<f64>,
+    /// The evidence that decides the side, forgotten as the recent heading turns.
+    held: f64,
+    /// The recent evidence, forgotten over [`FacingConfig::memory`] (may be negative).
     evidence: f64,
     last: Option<(f64, [f64; 2])>,
     velocity: [f64; 2],
@@ -289,10 +309,24 @@ impl Facing {
         }
         let keep = (-dt / config.memory).exp();
         self.evidence = self.evidence * keep + unit * vote;
+        let g = if first {
+            1.0
+        } else {
+            1.0 - (-dt / REFERENCE_TIME).exp()
+        };
+        // The angle the recent heading moves through this frame (it moves the fraction `g` of
+        // the way to the candidate).
+        let sweep = if first {
+            0.0
+        } else {
+            g * (candidate - recent[1].atan2(recent[0])).cos().acos()
+        };
+        self.held = self.held * (-dt / SIDE_MEMORY - sweep / SIDE_TURN).exp() + unit * vote;
         let mut heading = candidate;
         let mut turned = false;
-        if self.evidence < 0.0 {
+        if self.held < 0.0 {
             heading += PI;
+            self.held = -self.held;
             self.evidence = -self.evidence;
             turned = self.heading.is_some();
         }
@@ -300,11 +334,6 @@ impl Facing {
         if turned {
             self.reference = self.reference.map(|v| -v);
         }
-        let g = if first {
-            1.0
-        } else {
-            1.0 - (-dt / REFERENCE_TIME).exp()
-        };
         self.reference[0] += g * (heading.cos() - self.reference[0]);
         self.reference[1] += g * (heading.sin() - self.reference[1]);
         let exchange = (heading - labelled).cos() < 0.0;
@@ -318,7 +347,7 @@ impl Facing {
             exchange,
             turned,
             heading,
-            evidence: self.evidence * UNIT_STEP,
+            evidence: self.evidence.max(0.0) * UNIT_STEP,
             confident: self.evidence > labels_alone && (first || near(heading, recent)),
         }
     }
@@ -553,6 +582,47 @@ mod tests {
                 last = facing.decide(k as f64 / 25.0, &frame, &FacingConfig::default());
             }
             assert!(error(last.heading, want) < 1e-12, "knees {knees:?}");
+        }
+    }
+
+    #[test]
+    fn the_side_s_evidence_is_forgotten_as_the_person_turns_not_while_they_stand() {
+        // Two seconds of labels and bent knees on 0.3, then labels exchanged with nothing else
+        // seen for two and a half seconds. Standing still, the track keeps its heading (evidence
+        // forgotten over a second alone would have turned it round after about one and a half);
+        // turning half a turn over those seconds, the evidence goes with the turn and the labels
+        // turn the track round.
+        let config = FacingConfig::default();
+        for rate in [0.0, PI / 2.5] {
+            let mut facing = Facing::default();
+            for k in 0..50 {
+                let confirmed = Cues {
+                    knees: Some(0.3),
+                    ..cues(0.3, [2.0, 0.0, 1.0], None)
+                };
+                facing.decide(k as f64 / 25.0, &confirmed, &config);
+            }
+            let mut turned = 0;
+            let mut last = Decision::default();
+            for k in 1..=62 {
+                let t = k as f64 / 25.0;
+                let yaw = 0.3 + rate * t;
+                last = facing.decide(2.0 + t, &cues(yaw + PI, [2.0, 0.0, 1.0], None), &config);
+                turned += usize::from(last.turned);
+                if rate == 0.0 {
+                    assert!(error(last.heading, 0.3) < 1e-12, "frame {k}");
+                }
+            }
+            if rate == 0.0 {
+                // The recent evidence is against the heading by now: reported as none.
+                assert_eq!((turned, last.evidence, last.confident), (0, 0.0, false));
+            } else {
+                assert_eq!(turned, 1);
+                assert!(
+                    error(last.heading, 0.3 + rate * 2.48 + PI) < 0.1,
+                    "{last:?}"
+                );
+            }
         }
     }
 

@@ -237,7 +237,10 @@ frozen_config!(PersonConfig, {
     fn min_score(&self) -> f64 {
         self.inner.min_score
     }
-    /// Time constant (s) over which the evidence for which way the chest faces is forgotten.
+    /// Time constant (s) over which the recent evidence for which way the chest faces is
+    /// forgotten: what makes a heading confident (``heading_confident``, ``facing_evidence``).
+    /// The side itself is decided on evidence forgotten as the person turns, and only slowly
+    /// with time.
     #[getter]
     fn facing_memory(&self) -> f64 {
         self.inner.facing.memory

@@ -60,8 +60,9 @@ pub struct Observation {
     /// The track turned round in this frame: the cues said it had been facing the wrong way,
     /// and its history was turned round with it.
     pub reoriented: bool,
-    /// The track's weighed evidence for its heading after this frame, in seconds of the
-    /// labels' agreement (0 where the frame had no heading; [`crate::sides::Decision`]).
+    /// The track's recent weighed evidence for its heading after this frame, in seconds of the
+    /// labels' agreement (0 where the frame had no heading, or where the recent evidence is
+    /// against a heading the longer evidence holds; [`crate::sides::Decision`]).
     pub facing_evidence: f64,
     /// The heading's side is confirmed by a cue other than the detector's labels (more evidence
     /// than the labels alone can build) and it lies near the track's recent heading
