@@ -295,7 +295,7 @@ class PersonConfig:
     def facing_memory(self) -> float:
         """Time constant (s) over which the recent evidence for which way the chest faces is
         forgotten: what makes a heading confident (``heading_confident``, ``facing_evidence``).
-        The side itself is decided on evidence forgotten as the person turns, and only slowly
+        The side itself is decided on evidence forgotten as the heading moves, and only slowly
         with time."""
     @property
     def face_weight(self) -> float:

@@ -17,11 +17,13 @@
 //!   labelled, so it holds where the detector has the sides exchanged;
 //! - the motion: people mostly face where they walk, when they walk fast enough to tell.
 //!
-//! The evidence is weighed twice. The side is decided on evidence forgotten as the person turns
-//! (the recent heading's sweep, `SIDE_TURN`) and only slowly with time (`SIDE_MEMORY`): which
-//! side is the chest does not change while the person does not turn, and a detector's labels
-//! can stay exchanged for longer than a second while a person stands still, where evidence
-//! forgotten with time alone would let them turn the track round onto its back. When that
+//! The evidence is weighed twice. The side is decided on evidence forgotten as the recent
+//! heading moves, whichever way (the path it sweeps, `SIDE_TURN`), and only slowly with time
+//! (`SIDE_MEMORY`): which side is the chest does not change while the person does not turn, and
+//! a detector's labels can stay exchanged for longer than a second while a person stands still,
+//! where evidence forgotten with time alone would let them turn the track round onto its back;
+//! but a heading that turns, or wavers with poor torso planes, may have lost the side the
+//! evidence was for. When that
 //! evidence turns against the heading, the track turns round: the heading and everything the
 //! track remembers of the body's sides are reversed. Whether the heading is confident is judged
 //! on the recent evidence, forgotten over [`FacingConfig::memory`] (a second): the labels alone,
@@ -58,12 +60,13 @@ const MAX_LEG_PROPORTION: f64 = 2.0;
 const MAX_CONFIDENT_TURN: f64 = FRAC_PI_4;
 /// Time constant (s) of the recent heading whose side of the torso line a frame takes.
 const REFERENCE_TIME: f64 = 0.2;
-/// The recent heading's turn (rad) over which the evidence that decides the side is forgotten
-/// (to 1/e): a quarter turn takes a front view to a profile, where the cues read otherwise.
-/// Dev: an eighth or a half turn flipped more (docs/benchmark.md).
+/// The path (rad) the recent heading sweeps, turning or wavering, over which the evidence that
+/// decides the side is forgotten (to 1/e): a quarter turn takes a front view to a profile,
+/// where the cues read otherwise. Dev: an eighth or a half turn flipped more, and so did the
+/// net turn alone, without the wavering (docs/benchmark.md).
 const SIDE_TURN: f64 = FRAC_PI_2;
 /// Time constant (s) over which the evidence that decides the side is forgotten while the
-/// person does not turn, so that evidence built wrong does not hold a still person's heading
+/// recent heading holds still, so that evidence built wrong does not hold a still person's heading
 /// for ever. Dev: 2 s and none flipped about as often.
 const SIDE_MEMORY: f64 = 3.0;
 /// Walking slower than this (m/s) says nothing of the heading; the motion cue reaches its full
@@ -89,7 +92,7 @@ const MAX_STEP: f64 = 0.2;
 pub struct FacingConfig {
     /// Time constant (s) over which the recent evidence is forgotten: what says whether the
     /// heading is confident ([`Decision::confident`]). The side itself is decided on evidence
-    /// kept longer, forgotten as the person turns (module docs).
+    /// kept longer, forgotten as the heading moves (module docs).
     pub memory: f64,
     /// Weight of the nose cue, relative to the labels' (1 per 0.04 s of agreement).
     pub face_weight: f64,
@@ -314,8 +317,8 @@ impl Facing {
         } else {
             1.0 - (-dt / REFERENCE_TIME).exp()
         };
-        // The angle the recent heading moves through this frame (it moves the fraction `g` of
-        // the way to the candidate).
+        // The angle the recent heading moves through this frame, either way (it moves the
+        // fraction `g` of the way to the candidate).
         let sweep = if first {
             0.0
         } else {
