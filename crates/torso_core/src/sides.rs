@@ -23,15 +23,15 @@
 //! a detector's labels can stay exchanged for longer than a second while a person stands still,
 //! where evidence forgotten with time alone would let them turn the track round onto its back;
 //! but a heading that turns, or wavers with poor torso planes, may have lost the side the
-//! evidence was for. When that
-//! evidence turns against the heading, the track turns round: the heading and everything the
-//! track remembers of the body's sides are reversed. Whether the heading is confident is judged
-//! on the recent evidence, forgotten over [`FacingConfig::memory`] (a second): the labels alone,
-//! however long they agree, build about a memory's worth of it; a heading with more than that
-//! has been confirmed recently by another cue, and is reported confident unless the frame's
-//! torso line lies far across the recent heading (a bad plane). The decision owns the side of the pose
-//! the track reports ([`Facing::opposes`]), the plane fitted after the gate only its line; and
-//! where that line lies far across the recent heading, the pose reports the recent heading
+//! evidence was for. When that evidence turns against the heading, the track turns round: the
+//! heading and everything the track remembers of the body's sides are reversed. Whether the
+//! heading is confident is judged on the recent evidence, forgotten over
+//! [`FacingConfig::memory`] (a second): the labels alone, however long they agree, build about a
+//! memory's worth of it; a heading with more than that has been confirmed recently by another
+//! cue, and is reported confident unless the frame's torso line lies far across the recent
+//! heading (a bad plane). The decision owns the side of the pose the track reports
+//! ([`Facing::opposes`]), the plane fitted after the gate only its line; and where that line
+//! lies far across the recent heading, the pose reports the recent heading
 //! ([`Facing::across_recent`]).
 
 use crate::coco::{self, Joints, N_JOINTS};
@@ -66,8 +66,8 @@ const REFERENCE_TIME: f64 = 0.2;
 /// net turn alone, without the wavering (docs/benchmark.md).
 const SIDE_TURN: f64 = FRAC_PI_2;
 /// Time constant (s) over which the evidence that decides the side is forgotten while the
-/// recent heading holds still, so that evidence built wrong does not hold a still person's heading
-/// for ever. Dev: 2 s and none flipped about as often.
+/// recent heading holds still, so that evidence built wrong does not hold a still person's
+/// heading for ever. Dev: 2 s and none flipped about as often.
 const SIDE_MEMORY: f64 = 3.0;
 /// Walking slower than this (m/s) says nothing of the heading; the motion cue reaches its full
 /// weight `FULL_SPEED_SPAN` faster.
@@ -199,7 +199,7 @@ pub struct Decision {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Facing {
     heading: Option<f64>,
-    /// The evidence that decides the side, forgotten as the recent heading turns.
+    /// The evidence that decides the side, forgotten as the recent heading moves.
     held: f64,
     /// The recent evidence, forgotten over [`FacingConfig::memory`] (may be negative).
     evidence: f64,
