@@ -433,8 +433,8 @@ impl SelfCheck {
     /// line through the track's history, says the forecast given then may err
     /// ([`Trend::spread`]): a component whose prior at that horizon continues the line, by the
     /// uncertainty of the line's rate; one held still (a steady turn further ahead than it has
-    /// been seen, the elevation), by the whole fitted motion. `None` for a history too short to
-    /// fit.
+    /// been seen, the elevation), by the fitted motion ([`Trend::spread`]). `None` for a history
+    /// too short to fit.
     pub fn unchecked_half_width(&self, trend: &Trend, horizon: f64) -> Option<[f64; 5]> {
         let k = self.nearest(horizon);
         let continued = std::array::from_fn(|c| self.prior(c, k) == VELOCITY);
@@ -846,8 +846,8 @@ mod tests {
         // A steady turn at 0.5 rad/s seen for 1.2 s, its rate 20 standard errors from zero;
         // nothing checked yet. 0.4 and 1 s ahead the turn is continued: the interval allows for
         // its rate's standard error. 2 s ahead (further than it has been seen) the heading is
-        // held: the interval allows for the whole turn. The elevation, held at every horizon
-        // however steadily it moves, likewise.
+        // held: the interval allows for the turn (its rate less its standard error, in squares).
+        // The elevation, held at every horizon however steadily it moves, likewise.
         let trend = Trend {
             rate: [0.0, 0.0, 0.0, 0.5, 0.1],
             significance: [0.0, 0.0, 0.0, 20.0, 20.0],
@@ -858,11 +858,12 @@ mod tests {
         };
         let mut check = SelfCheck::new(25.0).unwrap();
         check.set_steady(trend.steady(), trend.seen);
-        for (h, rate) in [(0.4, 0.5 / 20.0), (1.0, 0.5 / 20.0), (2.0, 0.5)] {
+        let held = |rate: f64| (rate * rate - (rate / 20.0).powi(2)).sqrt();
+        for (h, rate) in [(0.4, 0.5 / 20.0), (1.0, 0.5 / 20.0), (2.0, held(0.5))] {
             let w = check.unchecked_half_width(&trend, h).unwrap();
             let expected = INTERVAL_80[AZIMUTH] * 0.05f64.hypot(rate * h);
             assert!((w[AZIMUTH] - expected).abs() < 1e-12, "{h}: {w:?}");
-            let expected = INTERVAL_80[ELEVATION] * 0.02f64.hypot(0.1 * h);
+            let expected = INTERVAL_80[ELEVATION] * 0.02f64.hypot(held(0.1) * h);
             assert!((w[ELEVATION] - expected).abs() < 1e-12, "{h}: {w:?}");
         }
     }
@@ -886,6 +887,7 @@ mod tests {
         assert!(half[0] > 10.0); // a distance has no such bound
         let trend = Trend {
             rate: [0.0, 0.0, 0.0, 5.0, 0.0],
+            significance: [0.0, 0.0, 0.0, 20.0, 0.0],
             scatter: [0.01; 5],
             seen: 1.0,
             ..Trend::default()
