@@ -213,19 +213,23 @@ impl Trend {
     /// alone says (before any forecast of the track has been checked): the scatter about the
     /// line (the estimates' noise) with, for a component whose forecast continues the line
     /// (`continued`), its rate's standard error over the horizon, and for one held still the
-    /// fitted motion over the horizon (what holding misses if the motion goes on), its rate
-    /// taken as the root of its square less its variance (the squared rate's unbiased estimate:
-    /// a rate within a standard error of zero counts as none). `None` for a history too short
-    /// to fit.
+    /// fitted motion over the horizon (what holding misses if the motion goes on). For an angle
+    /// held still the rate is taken as the root of its square less its variance (the squared
+    /// rate's unbiased estimate: a rate within a standard error of zero counts as none): a
+    /// torso's sway and bob over a short history fit a rate mostly of noise, and an angle goes
+    /// only as far as the body turns or leans. The centre's drift is taken whole: a person
+    /// drifting too slowly to count as a walk keeps drifting (the young tracks' centre intervals
+    /// are too narrow already, docs/benchmark.md). `None` for a history too short to fit.
     pub fn spread(&self, horizon: f64, continued: [bool; 5]) -> Option<Pose> {
         if self.seen == 0.0 {
             return None;
         }
         Some(std::array::from_fn(|c| {
             let s = self.significance[c];
-            let rate = if !continued[c] {
-                // The fitted rate's square overstates the true rate's by the fit's variance;
-                // a short history's sway fits a rate mostly of noise.
+            let rate = if !continued[c] && c < AZIMUTH {
+                self.rate[c].abs()
+            } else if !continued[c] {
+                // The fitted rate's square overstates the true rate's by the fit's variance.
                 let error = if s.is_finite() { self.rate[c] / s } else { 0.0 };
                 (self.rate[c].powi(2) - error.powi(2)).max(0.0).sqrt()
             } else if s.is_finite() {
@@ -301,8 +305,7 @@ mod tests {
 
     #[test]
     fn before_any_check_the_spread_is_the_scatter_with_the_rate_s_error_or_the_motion() {
-        // The centre's x stays about a level (no walk: the fitted motion counts, its rate less
-        // its standard error in squares); the
+        // The centre's x stays about a level (no walk: the whole fitted motion counts); the
         // azimuth turns steadily (only its rate's standard error counts); the same noise on both.
         let noise = |k: usize| 0.01 * [1.0, -1.0, 0.5, -0.3, 0.8][k % 5];
         let (xs, azimuths): (Vec<f64>, Vec<f64>) = (0..50)
@@ -319,13 +322,12 @@ mod tests {
         let spread = trend.spread(h, trend.steady()).unwrap();
         let (b, t, _) = by_hand(&xs);
         let scatter = (b / t).abs() * sxx.sqrt();
-        let rate = (b * b - (b / t).powi(2)).max(0.0).sqrt();
-        assert!((spread[0] - scatter.hypot(25.0 * rate * h)).abs() < 1e-12);
+        assert!((spread[0] - scatter.hypot(25.0 * b.abs() * h)).abs() < 1e-12);
         let (b, t, _) = by_hand(&azimuths);
         let scatter = (b / t).abs() * sxx.sqrt();
         assert!((spread[AZIMUTH] - scatter.hypot(25.0 * (b / t).abs() * h)).abs() < 1e-12);
         // Held still instead of continued, the forecast misses the fitted turn, its rate less
-        // its standard error in squares.
+        // its standard error in squares (an angle's).
         let held = trend.spread(h, [false; 5]).unwrap();
         let rate = (b * b - (b / t).powi(2)).sqrt();
         assert!((held[AZIMUTH] - scatter.hypot(25.0 * rate * h)).abs() < 1e-12);
