@@ -200,7 +200,7 @@ pub struct Decision {
 pub struct Facing {
     heading: Option<f64>,
     /// The evidence that decides the side, forgotten as the recent heading moves.
-    held: f64,
+    side_evidence: f64,
     /// The recent evidence, forgotten over [`FacingConfig::memory`] (may be negative).
     evidence: f64,
     last: Option<(f64, [f64; 2])>,
@@ -271,9 +271,9 @@ impl Facing {
         } = *cues;
         let first = self.heading.is_none();
         let recent = self.reference; // before this frame moves it
+        let reference = recent[1].atan2(recent[0]);
         let (dt, candidate) = match (self.heading, self.last) {
             (Some(h), Some((last_t, _))) => {
-                let reference = recent[1].atan2(recent[0]);
                 let side = if (labelled - reference).cos() >= 0.0 {
                     labelled
                 } else {
@@ -312,24 +312,21 @@ impl Facing {
         }
         let keep = (-dt / config.memory).exp();
         self.evidence = self.evidence * keep + unit * vote;
-        let g = if first {
-            1.0
+        // The share `g` of the way to the candidate the recent heading moves this frame, and the
+        // angle it moves through, either way.
+        let (g, sweep) = if first {
+            (1.0, 0.0)
         } else {
-            1.0 - (-dt / REFERENCE_TIME).exp()
+            let g = 1.0 - (-dt / REFERENCE_TIME).exp();
+            (g, g * (candidate - reference).cos().acos())
         };
-        // The angle the recent heading moves through this frame, either way (it moves the
-        // fraction `g` of the way to the candidate).
-        let sweep = if first {
-            0.0
-        } else {
-            g * (candidate - recent[1].atan2(recent[0])).cos().acos()
-        };
-        self.held = self.held * (-dt / SIDE_MEMORY - sweep / SIDE_TURN).exp() + unit * vote;
+        self.side_evidence =
+            self.side_evidence * (-dt / SIDE_MEMORY - sweep / SIDE_TURN).exp() + unit * vote;
         let mut heading = candidate;
         let mut turned = false;
-        if self.held < 0.0 {
+        if self.side_evidence < 0.0 {
             heading += PI;
-            self.held = -self.held;
+            self.side_evidence = -self.side_evidence;
             self.evidence = -self.evidence;
             turned = self.heading.is_some();
         }

@@ -226,16 +226,18 @@ impl Trend {
         }
         Some(std::array::from_fn(|c| {
             let s = self.significance[c];
-            let rate = if !continued[c] && c < AZIMUTH {
-                self.rate[c].abs()
-            } else if !continued[c] {
-                // The fitted rate's square overstates the true rate's by the fit's variance.
-                let error = if s.is_finite() { self.rate[c] / s } else { 0.0 };
-                (self.rate[c].powi(2) - error.powi(2)).max(0.0).sqrt()
-            } else if s.is_finite() {
+            let error = if s.is_finite() {
                 self.rate[c].abs() / s
             } else {
                 0.0
+            };
+            let rate = if continued[c] {
+                error
+            } else if c < AZIMUTH {
+                self.rate[c].abs()
+            } else {
+                // The fitted rate's square overstates the true rate's by the fit's variance.
+                (self.rate[c].powi(2) - error.powi(2)).max(0.0).sqrt()
             };
             self.scatter[c].hypot(rate * horizon)
         }))
