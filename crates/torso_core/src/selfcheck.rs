@@ -853,8 +853,7 @@ mod tests {
             significance: [0.0, 0.0, 0.0, 20.0, 20.0],
             scatter: [0.01, 0.01, 0.01, 0.05, 0.02],
             seen: 1.2,
-            flipped: false,
-            walk_turn: 0.0,
+            ..Trend::default()
         };
         let mut check = SelfCheck::new(25.0).unwrap();
         check.set_steady(trend.steady(), trend.seen);

@@ -9,11 +9,12 @@
 //!
 //! A walk continued along the line goes straight on; people walk in curves, and they face where
 //! they walk, so a torso turning steadily while its path bends the same way bends the line's
-//! continuation with it ([`Trend::walk_turn`]).
+//! continuation with it ([`Trend::walk_turn`]), and a line through the centre that runs across
+//! the torso is no walk ([`MAX_WALK_ACROSS`]).
 
 use crate::forecaster::Forecaster;
 use crate::{Pose, AZIMUTH, HEIGHT};
-use std::f64::consts::FRAC_PI_2;
+use std::f64::consts::{FRAC_PI_2, FRAC_PI_3};
 
 /// How many ordinary standard errors the azimuth's fitted rate must stand from zero for its
 /// history to count as a steady turn (the residuals of a history are correlated, so the ordinary
@@ -35,6 +36,15 @@ pub const STEADY_CENTRE: f64 = 5.0;
 /// on the scenes benchmark's development split (both draws; docs/benchmark.md); people walk at
 /// well over half a metre a second.
 pub const MIN_WALK_SPEED: f64 = 0.2;
+
+/// Largest angle (rad) between a steady line through the centre's history and the torso's
+/// normal line, either way, for the line to count as a walk. People walk facing where they go,
+/// or backing away, and a sidestep does not last; a line across the torso is more often the
+/// estimate drifting while a person stands (turning, bending, shifting their weight), and
+/// continued it lost to holding still. A third of a turn leaves room for a young track's poor
+/// torso planes: chosen on the scenes benchmark's development split, where an eighth of a turn
+/// refused young runners' walks and five twelfths kept more of the drifts (docs/benchmark.md).
+pub const MAX_WALK_ACROSS: f64 = FRAC_PI_3;
 
 /// Shortest history (s) over which a steady turn of the torso bends a walk's continuation. A
 /// walker's torso twists to and fro with every stride (a stride takes about a second), and a line
@@ -82,6 +92,11 @@ pub struct Trend {
     /// velocity at the end of a short history); the torso's turn is steadier, but a person can
     /// turn without walking round, which the path's bend rules out.
     pub walk_turn: f64,
+    /// The torso's normal over the history: the azimuth's mean (rad), its line's value at the
+    /// middle of the history, where the centre's fitted velocity is the path's. `None` for a
+    /// history too short to fit or holding a front/back flip ([`flipped`](Self::flipped)), whose
+    /// mean lies between the two sides.
+    pub torso_line: Option<f64>,
 }
 
 impl Trend {
@@ -170,6 +185,7 @@ impl Trend {
                 }
             }),
             walk_turn: 0.0,
+            torso_line: (!flipped).then_some(mean[AZIMUTH]),
         };
         // The path's turn rate: velocity x acceleration over speed squared, the acceleration
         // twice the quadratic term (per sample², hence rate² per s²).
@@ -245,15 +261,22 @@ impl Trend {
 
     /// Per component, whether it moves steadily. The centre over the ground, both coordinates
     /// together: its velocity [`STEADY_CENTRE`] standard errors from zero, at a walk's pace
-    /// ([`MIN_WALK_SPEED`]); a walk is continued whole or not at all. The angles: their rate
-    /// [`STEADY`] standard errors from zero, and for the azimuth, with no flip in the history.
+    /// ([`MIN_WALK_SPEED`]), along the torso's normal line within [`MAX_WALK_ACROSS`] either
+    /// way (where the history has one); a walk is continued whole or not at all. The angles:
+    /// their rate [`STEADY`] standard errors from zero, and for the azimuth, with no flip in the
+    /// history.
     /// The centre's height never does: a torso rises or sinks only as far as the body lets it
     /// (a jump, sitting down, standing up), so a line through its recent heights is not one to
     /// continue for seconds (held still instead, no motion's forecasts on the scenes
     /// benchmark's development split got worse; docs/benchmark.md).
     pub fn steady(&self) -> [bool; 5] {
-        let walking = self.rate[0].hypot(self.rate[1]) >= MIN_WALK_SPEED
-            && self.significance[0].hypot(self.significance[1]) >= STEADY_CENTRE;
+        let [vx, vy] = [self.rate[0], self.rate[1]];
+        let along_torso = self
+            .torso_line
+            .is_none_or(|line| (vy.atan2(vx) - line).cos().abs() >= MAX_WALK_ACROSS.cos());
+        let walking = vx.hypot(vy) >= MIN_WALK_SPEED
+            && self.significance[0].hypot(self.significance[1]) >= STEADY_CENTRE
+            && along_torso;
         std::array::from_fn(|c| match c {
             HEIGHT => false,
             0 | 1 => walking,
@@ -272,6 +295,7 @@ fn rotated(v: [f64; 2], angle: f64) -> [f64; 2] {
 mod tests {
     use super::*;
     use crate::ForecasterConfig;
+    use std::f64::consts::PI;
 
     fn history(poses: impl Iterator<Item = Pose>) -> Forecaster {
         let mut f = Forecaster::new(ForecasterConfig::default()).unwrap();
@@ -443,6 +467,38 @@ mod tests {
             [s, 0.14 * [0.0, 1.0, 0.0, -1.0][k % 4], 1.0, 0.0, 1.5]
         })));
         assert_eq!(still.steady()[..2], [false, false]);
+    }
+
+    #[test]
+    fn a_line_across_the_torso_is_no_walk() {
+        // Half a second at 1 m/s along x, the torso's normal at `facing` (and, with `flip`, a
+        // front/back flip of the estimate at the fourth sample).
+        let line = |facing: f64, flip: bool| {
+            Trend::of(&history((0..12).map(move |k| {
+                let turned = if flip && k >= 4 { PI } else { 0.0 };
+                [0.04 * k as f64, 0.0, 1.0, facing + turned, 1.5]
+            })))
+        };
+        // Facing the way it goes, or backing away, within a third of a turn: a walk.
+        for facing in [
+            0.0,
+            PI,
+            0.9 * FRAC_PI_3,
+            -0.9 * FRAC_PI_3,
+            PI + 0.9 * FRAC_PI_3,
+        ] {
+            assert_eq!(line(facing, false).steady()[..2], [true, true], "{facing}");
+        }
+        // Across the torso: the same line through the centre is no walk.
+        for facing in [FRAC_PI_2, -FRAC_PI_2, 1.1 * FRAC_PI_3, PI - 1.1 * FRAC_PI_3] {
+            let trend = line(facing, false);
+            assert!(trend.significance[0] > STEADY_CENTRE, "{trend:?}");
+            assert_eq!(trend.steady()[..2], [false, false], "{facing}");
+        }
+        // A history holding a flip has no torso line to judge the walk by.
+        let flipped = line(FRAC_PI_2, true);
+        assert!(flipped.flipped && flipped.torso_line.is_none());
+        assert_eq!(flipped.steady()[..2], [true, true]);
     }
 
     /// `n` samples at 25 Hz of a walk at 1 m/s round a circle of radius 2 m, counter-clockwise,
