@@ -5,8 +5,10 @@
 //! people, profile views), often for many frames in a row. So a track keeps its heading
 //! continuous (each frame takes the side of the torso line nearer the heading of the last fifth
 //! of a second, not of the last frame alone, so that one frame whose plane is badly off cannot
-//! carry the heading a quarter turn round and the next onto the back) and weighs four cues to
-//! whether that heading or its opposite is the chest's:
+//! carry the heading a quarter turn round and the next onto the back; and a frame whose knees
+//! point away from its heading moves that recent heading less, none at a right angle, so that a
+//! stretch of planes drifting off cannot either) and weighs four cues to whether that heading or
+//! its opposite is the chest's:
 //!
 //! - the labels: the labelled plane's normal on the heading's side or the opposite one (in a
 //!   frame where the track moved a far torso joint back to its depth from the last pose, only a
@@ -58,7 +60,8 @@ const MAX_LEG_PROPORTION: f64 = 2.0;
 /// it, far more often a bad plane than a turn that fast. Dev: 45 degrees, 30 was stricter for
 /// a few more frames (docs/benchmark.md).
 const MAX_CONFIDENT_TURN: f64 = FRAC_PI_4;
-/// Time constant (s) of the recent heading whose side of the torso line a frame takes.
+/// Time constant (s) of the recent heading whose side of the torso line a frame takes, for a
+/// frame whose knees agree with its heading (or show no direction); longer as they point away.
 const REFERENCE_TIME: f64 = 0.2;
 /// The path (rad) the recent heading sweeps, turning or wavering, over which the evidence that
 /// decides the side is forgotten (to 1/e): a quarter turn takes a front view to a profile,
@@ -334,6 +337,14 @@ impl Facing {
         if turned {
             self.reference = self.reference.map(|v| -v);
         }
+        // A frame moves the recent heading only as far as the knees agree with its heading: a
+        // torso line drifting off over a stretch of poor planes would drag the recent heading
+        // round until the frames took the other side of their lines, and the knees' direction,
+        // read from where the knees stand, does not drift with the torso plane.
+        let g = match knees {
+            Some(k) if !first => g * (heading - k).cos().max(0.0),
+            _ => g,
+        };
         self.reference[0] += g * (heading.cos() - self.reference[0]);
         self.reference[1] += g * (heading.sin() - self.reference[1]);
         let exchange = (heading - labelled).cos() < 0.0;
@@ -563,6 +574,32 @@ mod tests {
                 "frame {k}"
             );
             assert!(!d.turned);
+        }
+    }
+
+    #[test]
+    fn a_torso_line_drifting_off_does_not_drag_the_heading_past_the_knees() {
+        // Facing 0, knees pointing 0 throughout. After a second, the torso line (and the labels
+        // with it) drifts 15 degrees a frame round to 180 and stays there: the same line as the
+        // truth, its labels exchanged. Following every frame, the recent heading would drift
+        // round with it and the frames would stay on the back for half a second before the knees
+        // turned the track round; frames whose heading the knees point away from do not move it,
+        // and the next frames come back to the chest's side of their lines.
+        let config = FacingConfig::default();
+        let mut facing = Facing::default();
+        for k in 0..60 {
+            let drift = (15.0 * (k as f64 - 24.0)).clamp(0.0, 180.0).to_radians();
+            let now = Cues {
+                knees: Some(0.0),
+                ..cues(drift, [2.0, 0.0, 1.0], None)
+            };
+            let d = facing.decide(k as f64 / 25.0, &now, &config);
+            // Past a right angle only with the first frame the knees point away from.
+            assert!(
+                error(d.heading, 0.0) <= 105f64.to_radians() + 1e-9,
+                "frame {k}: {d:?}"
+            );
+            assert!(!d.turned, "frame {k}");
         }
     }
 
