@@ -276,6 +276,11 @@ def test_a_loss_to_holding_is_told_from_the_draw_of_scenes():
     steady, noisy = lost[("steady", "mean")], lost[("noisy", "mean")]
     assert steady["beyond"] and steady["low"] == pytest.approx(1.0) and steady["high"] == pytest.approx(1.0)
     assert not noisy["beyond"] and noisy["low"] < 0 < noisy["high"]
+    # The same forecasts a rounding error above holding: a tie, not a loss.
+    cols["forecast_centre"] = cols["hold_centre"] * (1.0 + 1e-15)
+    tied = forecast_table(cols, "category")
+    assert tied[0]["forecast_centre_mean"] > tied[0]["hold_centre_mean"]
+    assert losses({"category": tied, "view": []}, "hold") == []
 
 
 def test_the_oracle_puts_wrong_pairs_right_and_leaves_right_ones():

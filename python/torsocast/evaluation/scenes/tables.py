@@ -284,16 +284,23 @@ def identity_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
     return rows
 
 
+TIE = 1e-9
+"""Relative difference of two error statistics within which :func:`losses` counts them equal."""
+
+
 def losses(forecast_rows: dict[str, list[dict[str, Any]]], against: str = "hold") -> list[dict[str, Any]]:
     """Cells of :data:`CHECKED_AXES` (category or view bin, component, horizon, median or mean)
-    where the default forecast's error is larger than ``against``'s, worst ratio first."""
+    where the default forecast's error is larger than ``against``'s, worst ratio first. Errors
+    equal to within floating-point rounding (:data:`TIE`, relative) are a tie, not a loss: a
+    forecast that holds still computes its error apart from holding's and can differ from it in
+    the last bits."""
     out = []
     for axis in CHECKED_AXES:
         for row in forecast_rows.get(axis, []):
             for component in COMPONENTS:
                 for stat in ("median", "mean"):
                     ours, theirs = row[f"forecast_{component}_{stat}"], row[f"{against}_{component}_{stat}"]
-                    if ours > theirs:
+                    if ours > theirs * (1.0 + TIE):
                         out.append(
                             {
                                 "axis": axis,
