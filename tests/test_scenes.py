@@ -572,6 +572,14 @@ def test_eval_scenes_quick_runs_and_its_numbers_come_back_for_the_seed(tmp_path,
         assert turning[h]["forecast_azimuth_median"] < 0.95 * turning[h]["hold_azimuth_median"]
     for row in tables["forecasts"]["all"]:
         assert row["forecast_elevation_median"] == pytest.approx(row["hold_elevation_median"], abs=0.1)
+    # Over all motions the forecast errs less than holding still and than constant velocity, on
+    # average at every horizon, and the heading in the median too (the centre's median 2 s ahead
+    # is not yet: measured 35.6 cm against 33.3 held, among the losses the report lists first).
+    for row in tables["forecasts"]["all"]:
+        for stat, component in (("mean", "centre"), ("mean", "azimuth"), ("median", "azimuth")):
+            ours = row[f"forecast_{component}_{stat}"]
+            for reference in ("hold", "velocity"):
+                assert ours < row[f"{reference}_{component}_{stat}"], (row["horizon"], stat, component)
     # Every forecast falls in one band of its track's age with the person, the youngest first.
     by_age = tables["forecasts"]["age"]
     assert by_age[0]["group"] == "under 0.5 s" and "By the track's age with the person" in text
