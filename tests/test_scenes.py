@@ -540,17 +540,18 @@ def test_eval_scenes_quick_runs_and_its_numbers_come_back_for_the_seed(tmp_path,
     assert len(report["losses_to_hold"]) == 0 or "**Forecast worse than holding" in head
     tables = report["tables"]
     assert tables["recovery"]["all"][0]["person_frames"] > 300
-    # Front/back flips: measured 11.6 % of this split's estimates (26.2 % before the bent-knees
-    # cue, the recent heading's side of the torso line and MoveNet's crop; 9.2 % before torso
-    # joints read off someone else were dropped, which left the full report split level; the
-    # target is 1 %).
-    assert tables["recovery"]["all"][0]["flips"] < 0.15
-    # The headings a cue beside the labels confirms flip far less often (measured: 74.5 % of
-    # the estimates, flipped in 3.7 % of them).
+    # Front/back flips: measured 2.9 % of this split's estimates on 2026-12-04 (26.2 % before the
+    # bent-knees cue, the recent heading's side of the torso line and MoveNet's crop; 11.6 %
+    # when last measured before, ahead of the later heading rules in docs/benchmark.md; the
+    # target is 1 %). Twice the measured share leaves room for another
+    # CPU's int8 kernels, not for a rule's loss.
+    assert tables["recovery"]["all"][0]["flips"] < 0.06
+    # The headings a cue beside the labels confirms flip far less often (measured: 73.5 % of
+    # the estimates, flipped in none of them).
     everything = tables["recovery"]["all"][0]
     assert everything["confident"] > 0.6 and everything["flips_confident"] < 0.6 * everything["flips"]
     # The track's facing evidence grades the same trust (measured: under a quarter of a
-    # second's worth, 7.7 % of the estimates, flipped in 35.7 %; 2 s and more, 52.9 %, in none).
+    # second's worth, 6.3 % of the estimates, flipped in 35.3 %; 2 s and more, 54.4 %, in none).
     by_evidence = tables["flip_evidence"]
     estimated = round(everything["estimated"] * everything["person_frames"])
     assert sum(r["estimates"] for r in by_evidence) == estimated
@@ -565,8 +566,8 @@ def test_eval_scenes_quick_runs_and_its_numbers_come_back_for_the_seed(tmp_path,
         TURNING,
     }
     # The quick split's last scene is a turning one: its people turn on the spot, and their
-    # heading forecast continues the turn (measured: 44.0 / 106.8 degrees at 0.4 / 1 s against
-    # 53.2 / 122.1 held); the other people's elevation, which no one keeps pitching, is held.
+    # heading forecast continues the turn (measured: 39.1 / 96.9 degrees at 0.4 / 1 s against
+    # 52.1 / 119.0 held); the other people's elevation, which no one keeps pitching, is held.
     turning = {r["horizon"]: r for r in tables["forecasts"]["category"] if r["group"] == TURNING}
     for h in (0.4, 1.0):
         assert turning[h]["forecast_azimuth_median"] < 0.95 * turning[h]["hold_azimuth_median"]
