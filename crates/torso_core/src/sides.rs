@@ -315,8 +315,9 @@ impl Facing {
         }
         let keep = (-dt / config.memory).exp();
         self.evidence = self.evidence * keep + unit * vote;
-        // The share `g` of the way to the candidate the recent heading moves this frame, and the
-        // angle it moves through, either way.
+        // The share `g` of the way to the candidate the recent heading moves this frame by time
+        // alone, and the angle that takes it through, either way: the side's evidence is
+        // forgotten over that path even where the knees hold the recent heading back (below).
         let (g, sweep) = if first {
             (1.0, 0.0)
         } else {
