@@ -129,7 +129,8 @@ pub fn fit_torso_plane(
 /// [`fit_torso_plane`] with the orientation threshold given. Bent far forward, a torso's normal
 /// is nearly vertical and nearly perpendicular to the forward reference; a detector's noise then
 /// decides the sign, hence the default refusal. Mocap ground truth has no such noise: 0 orients
-/// every frame by the sign of `n · f` (about 5 % of Human3.6M S5 frames windows need it).
+/// every frame by the sign of `n · f`, the mocap frames bent far forward included, which the
+/// default refuses.
 pub fn fit_torso_plane_with(
     points: &[[f64; 3]],
     sides: &[Side],
@@ -262,7 +263,7 @@ struct SmallestEigenpair {
 /// Closed-form eigen-decomposition of a 3×3 scatter matrix: the eigenvalues from the
 /// trigonometric solution of the characteristic cubic (Smith 1961), the eigenvector of the
 /// smallest as the longest cross product of two rows of `S - λI`, whose rows span the space
-/// orthogonal to it. No iteration, so its cost is fixed; an iterative solver took 0.5 µs here.
+/// orthogonal to it. No iteration, so its cost is fixed.
 fn smallest_eigenpair(s: &Matrix3<f64>) -> SmallestEigenpair {
     // Scaling by the largest entry keeps the cubic's coefficients near one for any units.
     let scale = s.amax();

@@ -57,8 +57,8 @@ const MIN_KNEE_OFFSET: f64 = 0.03;
 const MAX_LEG_PROPORTION: f64 = 2.0;
 /// Largest angle (rad) between a frame's heading and the recent heading for the frame to be
 /// confident: beyond it the frame's torso line lies nearer across the recent heading than along
-/// it, far more often a bad plane than a turn that fast. Dev: 45 degrees, 30 was stricter for
-/// a few more frames (docs/benchmark.md).
+/// it, far more often a bad plane than a turn that fast. Chosen on the scenes benchmark's
+/// development split against a stricter bar (docs/benchmark.md).
 const MAX_CONFIDENT_TURN: f64 = FRAC_PI_4;
 /// Time constant (s) of the recent heading whose side of the torso line a frame takes, for a
 /// frame whose knees agree with its heading (or show no direction); longer as they point away.
