@@ -54,6 +54,7 @@ def run_cli(argv):
 
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code: int | str | None
         try:
             code = main(argv)
         except SystemExit as e:
@@ -67,6 +68,19 @@ def shared_path(*parts):
     if not path.exists():
         pytest.skip(f"{path} not found (shared test data, read from ../shared, never copied)")
     return path
+
+
+def turntable_frames(count=None):
+    """The real turntable sequence's frames (its first ``count``, or all), every one of them
+    read (a frame the source could not read fails the test that needs them)."""
+    from itertools import islice
+
+    from torsocast.sources import Frame, open_source
+
+    frames = list(islice(open_source(shared_path("data", "rgbd", "turntable")), count))
+    readable = [f for f in frames if isinstance(f, Frame)]
+    assert len(readable) == len(frames), "a turntable frame could not be read"
+    return readable
 
 
 @pytest.fixture(scope="session")

@@ -1,6 +1,7 @@
 """Forecaster, baselines and batch call against the independent SciPy reference."""
 
 import itertools
+from typing import Any
 
 import numpy as np
 import pytest
@@ -11,7 +12,7 @@ from conftest import walking_history
 
 HORIZONS = [0.0, 0.04, 0.4, 1.0, 2.0]
 
-SPLINE_CASES = [
+SPLINE_CASES: list[dict[str, Any]] = [
     dict(filter=f, degree=d, lambda_unit=u, extrapolation=e, lam=lam)
     for f, d, u, e, lam in itertools.product(
         ["off", "causal", "zero_phase"],
@@ -26,7 +27,7 @@ SPLINE_CASES = [
     dict(degree=4, lam=3.0),
     dict(extrapolation="damped", damping=(0.0, 0.2, float("inf"), 3.0, 0.7)),
 ]
-BASELINES = [
+BASELINES: list[dict[str, Any]] = [
     dict(method="const"),
     dict(method="constant_velocity"),
     dict(method="constant_velocity", velocity_window=0.4),
@@ -61,7 +62,8 @@ def test_confidence_weights_enter_the_fit_as_in_the_reference(cfg):
 @pytest.mark.parametrize("n", [2, 5, 9, 23])
 def test_partial_history_during_warm_up(n):
     t, hist = walking_history(n=n)
-    for cfg in [dict(), dict(degree=3, lam=0.2, filter="causal"), *BASELINES]:
+    configs: list[dict[str, Any]] = [dict(), dict(degree=3, lam=0.2, filter="causal"), *BASELINES]
+    for cfg in configs:
         close(run(cfg, t, hist), ref.forecast(hist, HORIZONS, **cfg))
 
 
@@ -98,7 +100,8 @@ def test_gaps_are_filled_and_reported_and_long_gaps_restart():
 
 def test_batch_equals_per_track_forecasts_and_the_reference():
     windows = np.stack([walking_history(seed=s)[1] for s in range(20)])
-    for cfg in [dict(), dict(degree=2, lam=2.0, filter="causal"), *BASELINES]:
+    configs: list[dict[str, Any]] = [dict(), dict(degree=2, lam=2.0, filter="causal"), *BASELINES]
+    for cfg in configs:
         config = tc.ForecasterConfig(**cfg)
         batch = tc.forecast_batch(windows.astype(np.float32), HORIZONS, config)
         assert batch.shape == (20, len(HORIZONS), 5) and batch.dtype == np.float64
@@ -183,11 +186,12 @@ def test_config_round_trips_through_the_forecaster():
         None,
     )
     # A setting of another method would do nothing: it is refused, not ignored.
-    for method, setting in [
+    refused: list[tuple[Any, dict[str, Any]]] = [
         ("const", {"lam": 2.0}),
         ("constant_velocity", {"degree": 3}),
         (None, {"velocity_window": 1.0}),
-    ]:
+    ]
+    for method, setting in refused:
         with pytest.raises(tc.InvalidArgumentError, match=next(iter(setting))):
             tc.ForecasterConfig(method, **setting)
     assert tc.ForecasterConfig("const").lam is None and tc.ForecasterConfig().lam == 1.0

@@ -11,7 +11,7 @@ from torsocast.keypoints import loading, open_model
 from torsocast.keypoints.image import letterbox
 from torsocast.keypoints.loading import recognise
 from torsocast.keypoints.movenet import MoveNet, bundled_model, crop_region
-from torsocast.keypoints.yolo import non_maximum_suppression
+from torsocast.keypoints.yolo import YoloPose, non_maximum_suppression
 
 # README of ../shared/data/images: yolo11n-pose at 640, (u, v) of L/R shoulder, L/R hip.
 WOMAN = [(1432.4, 621.2), (1418.7, 621.3), (1426.1, 742.9), (1403.6, 739.5)]
@@ -126,7 +126,7 @@ def test_a_float_model_is_not_taken_for_an_int8_one(tmp_path):
 
 def test_family_is_recognised_from_the_model_and_checked():
     yolo = open_model(shared_path("models", "yolo11n-pose-320.onnx"))
-    assert yolo.family == "yolo-pose" and yolo.input_size == 320
+    assert isinstance(yolo, YoloPose) and yolo.family == "yolo-pose" and yolo.input_size == 320
     assert recognise(yolo.session) == "yolo-pose"
     with pytest.raises(ValueError, match="family must be one of"):
         open_model(None, family="openpose")
@@ -139,7 +139,7 @@ def test_image_checks_and_letterbox_inverse():
     with pytest.raises(ValueError, match="RGB image"):
         model(np.zeros((10, 10), dtype=np.uint8))
     with pytest.raises(ValueError, match="uint8"):
-        model(np.zeros((10, 10, 3)))
+        model(np.zeros((10, 10, 3)))  # type: ignore[arg-type]  # the refusal under test
     image = np.zeros((100, 300, 3), dtype=np.uint8)
     boxed, box = letterbox(image, 60, 114, centre=True)
     assert boxed.shape == (60, 60, 3) and (boxed[:20] == 114).all() and (boxed[40:] == 114).all()

@@ -2,6 +2,8 @@
 the object as it was, or a finite result (hypothesis draws the inputs, including NaN, infinity,
 huge and tiny values)."""
 
+from typing import Any
+
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -72,11 +74,15 @@ def test_a_person_takes_a_frame_whole_or_refuses_it_whole(joints, scores, t):
         s = np.zeros(17)
         s[[5, 6, 11, 12]] = 0.9
         person.update(k / 25, j, s, [0.0, 0.0, 1.2])
-    before = (len(person), person.last_time, person.forecast([0.4]).tobytes())
+    ahead = person.forecast([0.4])
+    assert ahead is not None
+    before = (len(person), person.last_time, ahead.tobytes())
     try:
         obs = person.update(t, joints, scores, [0.0, 0.0, 1.2])
     except tc.TorsocastError:
-        assert (len(person), person.last_time, person.forecast([0.4]).tobytes()) == before
+        after = person.forecast([0.4])
+        assert after is not None
+        assert (len(person), person.last_time, after.tobytes()) == before
         return
     assert obs.pose is None or np.isfinite(obs.pose).all()
     ahead = person.forecast([0.4, 1.0])
@@ -412,7 +418,7 @@ _HOSTILE_ARRAYS = st.one_of(
 def test_run_on_a_recording_with_any_calibration_arrays_exits_0_or_2(tmp_path_factory, key, value):
     # Never a traceback: a recording whose arrays cannot describe a camera is one line and exit 2.
     folder = tmp_path_factory.mktemp("recording")
-    arrays = {
+    arrays: dict[str, Any] = {
         "color": np.zeros((2, 24, 32, 3), np.uint8),
         "depth": np.full((2, 24, 32), 2000, np.uint16),
         "time": np.array([0.0, 0.04]),
@@ -476,19 +482,21 @@ def test_the_stateful_filters_take_any_value_whole_or_refuse_it_whole(values, wh
     gate.update(np.zeros((4, 3)))
     joints = np.zeros((4, 3))
     joints.flat[which] = values[0]
-    twin = tc.JointGate(4)
-    twin.update(np.zeros((4, 3)))
+    twin_gate = tc.JointGate(4)
+    twin_gate.update(np.zeros((4, 3)))
+    gated: np.ndarray | None
+    status: np.ndarray | None
     try:
-        out, status = gate.update(joints)
+        gated, status = gate.update(joints)
     except tc.TorsocastError:
-        out, status = None, None
+        gated = status = None
     # Whatever this frame did, the gate's next answer is that of a gate given it or refused it.
     follow = np.full((4, 3), 0.01)
-    if out is None:
-        np.testing.assert_array_equal(gate.update(follow)[0], twin.update(follow)[0])
+    if gated is None or status is None:
+        np.testing.assert_array_equal(gate.update(follow)[0], twin_gate.update(follow)[0])
     else:
         assert status.shape == (4,)
-        assert np.isfinite(out).all() or np.isnan(out).any()  # a joint kept, replaced or missing
+        assert np.isfinite(gated).all() or np.isnan(gated).any()  # a joint kept, replaced or missing
 
 
 @SETTINGS

@@ -6,27 +6,27 @@ import json
 import numpy as np
 import pytest
 
-from conftest import shared_path
+from conftest import shared_path, turntable_frames
 from torsocast.cli import main
 from torsocast.keypoints import open_model
 from torsocast.pipeline import Pipeline
-from torsocast.sources import NpzRecording, TumFolder, open_source
+from torsocast.sources import Frame, NpzRecording, TumFolder, open_source
 from torsocast.sources.recording import write
 
 
-def turntable_errors(model):
+def turntable_errors(model) -> tuple[np.ndarray, np.ndarray]:
     """Per frame: |azimuth error| (deg, NaN without an estimate) and the ground-truth turn (deg).
     The person faces the camera (world azimuth 180 degrees) at frame 0 and turns by the angle of
     R about the camera's vertical axis; the sign was measured (+1)."""
     pipeline = Pipeline(model)
     errors, turn = [], []
-    for frame in open_source(shared_path("data", "rgbd", "turntable")):
+    for frame in turntable_frames():
         result = pipeline(frame)
         r = frame.extra["R"]
         truth = np.arctan2(r[0, 2], r[0, 0])
         obs = result.people[0].observation if result.people else None
-        ok = obs is not None and obs.pose is not None
-        errors.append(abs(np.angle(np.exp(1j * (obs.pose[3] - np.pi - truth)))) if ok else np.nan)
+        pose = obs.pose if obs is not None else None
+        errors.append(abs(np.angle(np.exp(1j * (pose[3] - np.pi - truth)))) if pose is not None else np.nan)
         turn.append(np.degrees(truth) % 360)
     return np.degrees(errors), np.array(turn)
 
@@ -64,7 +64,7 @@ def test_a_steady_turn_is_forecast_not_held():
     # the whole image, before MoveNet's crop; 19.0 before the steady-turn prior). The history's
     # steady turn is continued from the track's first second.
     pipeline = Pipeline(open_model(), (0.4,))
-    frames = list(open_source(shared_path("data", "rgbd", "turntable")))
+    frames = turntable_frames()
     times = np.array([f.time for f in frames])
     truth = np.array([np.arctan2(f.extra["R"][0, 2], f.extra["R"][0, 0]) + np.pi for f in frames])
     forecast, held = [], []
@@ -144,14 +144,17 @@ def test_run_refuses_what_it_cannot_read(tmp_path, capsys):
 
 
 def test_npz_recording_and_tum_folder_give_back_the_frames(tmp_path):
-    frames = [f for f, _ in zip(open_source(shared_path("data", "rgbd", "turntable")), range(3))]
-    raw = np.stack([np.rint(f.depth * 1000).astype(np.uint16) for f in frames])
-    write(tmp_path / "rec.npz", np.stack([f.color for f in frames]), raw, [0.0, 0.05, 0.1], frames[0].camera)
-    back = list(NpzRecording(tmp_path / "rec.npz"))
+    frames = turntable_frames(3)
+    depths = [f.depth for f in frames]
+    camera = frames[0].camera
+    assert all(d is not None for d in depths) and camera is not None
+    raw = np.stack([np.rint(d * 1000).astype(np.uint16) for d in depths if d is not None])
+    write(tmp_path / "rec.npz", np.stack([f.color for f in frames]), raw, [0.0, 0.05, 0.1], camera)
+    back = [f for f in NpzRecording(tmp_path / "rec.npz") if isinstance(f, Frame)]
     assert len(back) == 3 and back[2].time == 0.1
     assert np.array_equal(back[1].color, frames[1].color)
-    assert np.allclose(back[1].depth, frames[1].depth, atol=1e-6)
-    assert back[0].camera.intrinsics == frames[0].camera.intrinsics
+    assert back[1].depth is not None and np.allclose(back[1].depth, depths[1], atol=1e-6)
+    assert back[0].camera is not None and back[0].camera.intrinsics == camera.intrinsics
 
     from PIL import Image
 
@@ -159,9 +162,10 @@ def test_npz_recording_and_tum_folder_give_back_the_frames(tmp_path):
     (tum / "rgb").mkdir(parents=True)
     (tum / "depth").mkdir()
     rgb_lines, depth_lines = [], []
-    for k, f in enumerate(frames):
+    for k, (f, d) in enumerate(zip(frames, depths)):
+        assert d is not None
         Image.fromarray(f.color).save(tum / "rgb" / f"{k}.png")
-        Image.fromarray((f.depth * 5000).astype(np.uint16)).save(tum / "depth" / f"{k}.png")
+        Image.fromarray((d * 5000).astype(np.uint16)).save(tum / "depth" / f"{k}.png")
         rgb_lines.append(f"{100 + k / 30:.6f} rgb/{k}.png")
         depth_lines.append(f"{100 + k / 30 + 0.01:.6f} depth/{k}.png")
     depth_lines[2] = f"{100 + 2 / 30 + 0.05:.6f} depth/2.png"  # too far from its colour image
@@ -169,8 +173,9 @@ def test_npz_recording_and_tum_folder_give_back_the_frames(tmp_path):
     (tum / "depth.txt").write_text("\n".join(depth_lines))
     source = open_source(tum)
     assert isinstance(source, TumFolder) and len(source) == 2 and source.unpaired == 1
-    got = list(source)
-    assert np.allclose(got[1].depth, frames[1].depth, atol=2e-4)
+    got = [f for f in source if isinstance(f, Frame)]
+    assert len(got) == 2
+    assert got[1].depth is not None and np.allclose(got[1].depth, depths[1], atol=2e-4)
     assert got[1].time == pytest.approx(100 + 1 / 30)
 
 
@@ -183,7 +188,8 @@ def test_a_video_file_gives_its_frames_and_run_finds_both_people_in_2d(tmp_path,
     path = shared_path("data", "video", "sports2d-demo.mp4")
     video = VideoFile(path)
     assert (len(video), video.fps) == (230, 30.0)  # the video's README
-    frames = {f.index: f for f in video if f.index in (0, 60)}
+    frames = {f.index: f for f in video if isinstance(f, Frame) and f.index in (0, 60)}
+    assert sorted(frames) == [0, 60]
     for k, frame in frames.items():
         # ../images holds frames 0 and 60 of this video, decoded once: measured identical here.
         with Image.open(shared_path("data", "images", f"sports2d_{k:03d}.png")) as image:
@@ -198,8 +204,8 @@ def test_a_video_file_gives_its_frames_and_run_finds_both_people_in_2d(tmp_path,
     people = lines[60]["people"]
     assert len(people) == 2 and all("joints" not in p and p["id"] is None for p in people)  # 2D only
     # Where the images' README puts the two torsos (YOLO at 640); 320 is within 16 px of it.
-    for reference in ([1432.4, 621.2], [660.6, 165.3]):  # left shoulders: woman, man
-        found = min(np.abs(np.array(p["keypoints"][5][:2]) - reference).max() for p in people)
+    for shoulder in ([1432.4, 621.2], [660.6, 165.3]):  # left shoulders: woman, man
+        found = min(np.abs(np.array(p["keypoints"][5][:2]) - shoulder).max() for p in people)
         assert found < 16.0
 
 
@@ -221,7 +227,8 @@ def test_depth_that_cannot_be_read_right_is_refused_with_a_reason(tmp_path):
     (tum / "depth.txt").write_text("200.0 depth/0.png\n")
     with pytest.raises(ValueError, match="no colour image has a depth image within"):
         open_source(tum)
-    frame = next(iter(open_source(shared_path("data", "rgbd", "turntable"))))
+    frame = turntable_frames(1)[0]
+    assert frame.depth is not None
     frame.depth = frame.depth[::2, ::2]
     pipeline = Pipeline(open_model())
     with pytest.raises(BadFrameError, match="not registered to colour"):
@@ -303,7 +310,7 @@ def test_a_frame_whose_image_the_model_cannot_take_is_a_bad_frame_and_changes_no
     depth = np.ones((480, 640), np.float32)
     for colour in (np.zeros((480, 640), np.uint8), np.zeros((480, 640, 3), np.float64)):
         with pytest.raises(BadFrameError, match="frame 0"):
-            pipeline(Frame(0, 0.0, colour, depth, camera))
+            pipeline(Frame(0, 0.0, colour, depth, camera))  # type: ignore[arg-type]  # refused
         assert pipeline.last_time is None and pipeline.frames == 0
     pipeline(Frame(0, 0.0, np.zeros((480, 640, 3), np.uint8), depth, camera))
     assert pipeline.last_time == 0.0

@@ -8,6 +8,7 @@ import math
 import re
 import subprocess
 import sys
+from typing import Any
 
 import numpy as np
 import pytest
@@ -47,7 +48,14 @@ def facing(motion, azimuth, position, **spec):
     """A one-person scene of ``motion`` turned so that its torso faces ``azimuth`` at ``position``."""
     yaw = azimuth - torso_truth(motion.joints[:1])[0, 3]
     actor = Actor(motion.name, 0.0, 0.0, yaw, position)
-    args = {"sensor": "kinect_v2", "fps": 15.0, "height": 1.0, "tilt_deg": -5.0, "duration": 1.0, "seed": 1}
+    args: dict[str, Any] = {
+        "sensor": "kinect_v2",
+        "fps": 15.0,
+        "height": 1.0,
+        "tilt_deg": -5.0,
+        "duration": 1.0,
+        "seed": 1,
+    }
     args.update(spec)
     return SceneSpec("test", actors=(actor,), **args)
 
@@ -122,7 +130,14 @@ def test_labels_show_whose_pixel_it_is_and_a_person_behind_another_is_hidden(sta
     front = Actor("still", 0.0, 0.0, 0.0, (2.0, 0.0))
     behind = Actor("still", 0.0, 0.0, 0.0, (4.0, 0.0))
     aside = Actor("still", 0.0, 0.0, 0.0, (4.0, 1.5))
-    args = {"sensor": "kinect_v2", "fps": 10.0, "height": 1.0, "tilt_deg": 0.0, "duration": 0.1, "seed": 0}
+    args: dict[str, Any] = {
+        "sensor": "kinect_v2",
+        "fps": 10.0,
+        "height": 1.0,
+        "tilt_deg": 0.0,
+        "duration": 0.1,
+        "seed": 0,
+    }
     hidden = RenderedScene(SceneSpec("hidden", actors=(front, behind), **args), {"still": standing})
     frame = next(iter(hidden))
     assert list(hidden.visible(frame)) == [True, False]
@@ -257,7 +272,9 @@ def test_a_loss_to_holding_is_told_from_the_draw_of_scenes():
     # forecast errs more in half the scenes and less in the other half, by up to 30 cm, and a
     # little more on the whole: a loss the draw of scenes does explain.
     rng = np.random.default_rng(0)
-    rows = {k: [] for k in ("scene", "category", "view", "horizon", "forecast_centre", "hold_centre")}
+    rows: dict[str, list[Any]] = {
+        k: [] for k in ("scene", "category", "view", "horizon", "forecast_centre", "hold_centre")
+    }
     for scene in range(40):
         category = "steady" if scene < 20 else "noisy"
         shift = 0.01 if scene < 20 else (0.3 if scene % 2 else -0.29) * rng.uniform(0.5, 1.0)
@@ -348,7 +365,7 @@ def test_two_runs_compare_their_forecasts_scene_by_scene(tmp_path, capsys):
     rng = np.random.default_rng(2)
     head = ["scene", "t", "actor", "estimated", "azimuth", "category", "view", "horizon"]
     head += [f"{m}_{c}" for m in ("forecast", "hold") for c in ("centre", "azimuth", "elevation")]
-    rows = []
+    rows: list[list[Any]] = []
     for scene in range(10):
         for k in range(8):
             error = rng.uniform(0.05, 0.2)
@@ -459,7 +476,9 @@ def recover(spec, motion, model):
     errors = []
     for frame in scene:
         result = pipeline(frame)
-        pose = result.people[0].observation.pose
+        observation = result.people[0].observation
+        assert observation is not None and observation.pose is not None
+        pose = observation.pose
         truth = frame.extra["truth"][0]
         errors.append(
             [
@@ -508,9 +527,10 @@ def test_a_replayed_scene_scores_as_the_live_one(tmp_path):
             return walk
 
     model = open_model()
-    live, _, frames = run_scene(spec, Catalogue(), model, cache=tmp_path)
+    catalogue: Any = Catalogue()  # the one motion the scene asks for, as a split's catalogue gives it
+    live, _, frames = run_scene(spec, catalogue, model, cache=tmp_path)
     assert frames == 26 and len(list(tmp_path.glob("*.npz"))) == 1
-    replayed, picture, _ = run_scene(spec, Catalogue(), model, cache=tmp_path)
+    replayed, picture, _ = run_scene(spec, catalogue, model, cache=tmp_path)
     assert picture is None and len(live.forecasts["t"]) > 0
     for table in ("recovery", "forecasts", "identity"):
         assert dict(getattr(replayed, table)) == dict(getattr(live, table)), table
@@ -625,7 +645,9 @@ def test_eval_scenes_quick_runs_and_its_numbers_come_back_for_the_seed(tmp_path,
     spec = SceneSpec(**{**spec_dict, "actors": actors})
     catalogue = Catalogue.find("report", cmu_root, h36m_root)
     models = Models.open(yolo)
-    score, _, _ = run_scene(spec, catalogue, models.single if len(actors) == 1 else models.multi)
+    model = models.single if len(actors) == 1 else models.multi
+    assert model is not None
+    score, _, _ = run_scene(spec, catalogue, model)
     with open(tmp_path / "recovery.csv") as f:
         rows = [r for r in csv.DictReader(f) if r["scene"] == spec.name]
     assert len(rows) == len(score.recovery["t"]) > 0

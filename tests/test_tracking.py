@@ -1,6 +1,8 @@
 """Per-person chain (swap correction, gating, plane or shoulders, forecaster grid) and the
 multi-person tracker, on synthetic people whose poses are known exactly."""
 
+from typing import Any
+
 import numpy as np
 import pytest
 
@@ -13,7 +15,7 @@ CAMERA = np.zeros(3)  # camera at the world origin, people in front of it along 
 CENTRES = PersonConfig(surface_depth=(0.0, 0.0))
 
 
-def person(centre, yaw, hips=True):
+def person(centre, yaw, hips=True) -> tuple[np.ndarray, np.ndarray]:
     """17 world joints and scores of an upright person at ``centre`` facing azimuth ``yaw``, with
     a visible face when it faces the camera at the origin."""
     forward = np.array([np.cos(yaw), np.sin(yaw), 0.0])
@@ -45,6 +47,12 @@ def swap_sides(values):
     return out
 
 
+def pose_of(obs) -> np.ndarray:
+    """The pose of an observation the test's frame must have given one."""
+    assert obs is not None and obs.pose is not None
+    return obs.pose
+
+
 def test_a_turning_person_keeps_the_detectors_labels_and_a_short_swap_is_undone():
     # YOLO-pose and MoveNet label the sides right in back views too (every frame of the real
     # turntable sequence, with three models), so the labels decide; a detector's swap of a few
@@ -61,15 +69,15 @@ def test_a_turning_person_keeps_the_detectors_labels_and_a_short_swap_is_undone(
         assert obs.estimate == "plane"
         swaps += obs.swapped
         assert obs.swapped == swap and not obs.reoriented
-        errors.append(np.angle(np.exp(1j * (obs.pose[3] - yaw))))
+        errors.append(np.angle(np.exp(1j * (pose_of(obs)[3] - yaw))))
     assert np.abs(errors).max() < 1e-9 and swaps == 4
-    assert obs.pose[4] == pytest.approx(np.pi / 2)
+    assert pose_of(obs)[4] == pytest.approx(np.pi / 2)
 
 
 def test_a_track_born_facing_away_takes_the_labels_and_turns_round_on_steady_evidence():
     joints, scores = person([2.0, 0.5, 1.0], 0.2)  # back to the camera, no face in sight
     obs = tc.Person().update(0.0, joints, scores, CAMERA)
-    assert not obs.swapped and obs.pose[3] == pytest.approx(0.2)
+    assert not obs.swapped and pose_of(obs)[3] == pytest.approx(0.2)
     # Born with the sides exchanged (facing the camera, its face not found), then labelled
     # right with the nose in front: the track turns round once and stays.
     track = tc.Person()
@@ -82,7 +90,7 @@ def test_a_track_born_facing_away_takes_the_labels_and_turns_round_on_steady_evi
         obs = track.update(k / 25, j, s, CAMERA)
         flips.append(obs.reoriented)
     assert flips.index(True) == 1 and sum(flips) == 1
-    assert obs.pose[3] == pytest.approx(tc.wrap_angle(np.pi + 0.005 * 29))
+    assert pose_of(obs)[3] == pytest.approx(tc.wrap_angle(np.pi + 0.005 * 29))
 
 
 def with_bent_knees(joints, scores, yaw, bend=0.08):
@@ -108,7 +116,7 @@ def test_bent_knees_keep_the_heading_where_the_detector_mostly_exchanges_the_lab
             if k % 3:
                 joints, scores = swap_sides(joints), swap_sides(scores[:, None])[:, 0]
             obs = track.update(k / 25, joints, scores, CAMERA)
-        assert tc.wrap_angle(obs.pose[3] - want) == pytest.approx(0.0, abs=1e-9), knee_weight
+        assert tc.wrap_angle(pose_of(obs)[3] - want) == pytest.approx(0.0, abs=1e-9), knee_weight
     with pytest.raises(tc.InvalidArgumentError, match="knee_weight"):
         PersonConfig(knee_weight=-1.0)
 
@@ -146,8 +154,8 @@ def test_without_hips_the_azimuth_comes_from_the_shoulders():
     joints, scores = person([2.02, 0.0, 1.0], 2.6, hips=False)
     obs = track.update(0.04, joints, scores, CAMERA)
     assert obs.estimate == "shoulders"
-    assert obs.pose[3] == pytest.approx(2.6)
-    assert obs.pose[:3] == pytest.approx([2.02, 0.0, 1.0])
+    assert pose_of(obs)[3] == pytest.approx(2.6)
+    assert pose_of(obs)[:3] == pytest.approx([2.02, 0.0, 1.0])
 
 
 def test_the_plane_goes_through_the_joint_centres_behind_the_surface():
@@ -160,10 +168,10 @@ def test_the_plane_goes_through_the_joint_centres_behind_the_surface():
     depths = np.repeat(PersonConfig().surface_depth, 2)[:, None]
     moved = torso + depths * ray / np.linalg.norm(ray)
     plane = tc.fit_planes(moved[None], coco.TORSO_SIDES)
-    assert obs.pose[:3] == pytest.approx(plane["centre"][0], abs=1e-9)
-    assert obs.pose[3:] == pytest.approx([plane["azimuth"][0], plane["elevation"][0]], abs=1e-9)
+    assert pose_of(obs)[:3] == pytest.approx(plane["centre"][0], abs=1e-9)
+    assert pose_of(obs)[3:] == pytest.approx([plane["azimuth"][0], plane["elevation"][0]], abs=1e-9)
     # Facing the camera, the hips moved back further than the shoulders lean the chest down.
-    assert obs.pose[4] > np.pi / 2 + 1e-3
+    assert pose_of(obs)[4] > np.pi / 2 + 1e-3
 
 
 def test_frames_faster_than_the_grid_are_skipped_and_gaps_are_filled():
@@ -185,7 +193,7 @@ def test_gate_replaces_a_jumping_joint():
     joints[coco.LEFT_HIP] += [0.5, 0.0, 0.0]  # a depth reading from the wall
     obs = track.update(0.04, joints, scores, CAMERA)
     assert obs.joint_status[coco.LEFT_HIP] == tc.JointStatus.REPLACED
-    assert obs.pose[3] == pytest.approx(np.pi)
+    assert pose_of(obs)[3] == pytest.approx(np.pi)
 
 
 def walkers(t):
@@ -218,6 +226,7 @@ def test_tracker_keeps_ids_through_a_crossing_and_a_missed_frame():
     assert ids_a == {None, 1} and ids_b == {None, 2} and ids_c == {None, 3}
     assert [t.id for t in tracker.tracks] == [1, 2, 3]
     forecast = tracker.forecast(1, [0.4])
+    assert forecast is not None
     # x ahead of a, who walks at 1 m/s: the damped trend carries 1.5 (1 - e^(-0.4/1.5)) m in
     # 0.4 s; the 1 Hz zero-phase filter's end effect on the ramp costs a few centimetres more.
     carried = 1.5 * (1 - np.exp(-0.4 / 1.5))
@@ -294,7 +303,8 @@ def test_configs_are_frozen_values_built_from_the_cores_defaults():
     changed = config.replace(gate=0.5, person=config.person.replace(face_weight=0.0))
     assert (changed.gate, changed.person.face_weight, changed.min_hits) == (0.5, 0.0, config.min_hits)
     assert changed != config and config.gate != 0.5  # replace() leaves the original alone
-    forecasters = [tc.ForecasterConfig(m) for m in tc.ForecasterConfig.options()["method"]]
+    methods: list[Any] = tc.ForecasterConfig.options()["method"]  # names, as the stubs' literals
+    forecasters = [tc.ForecasterConfig(m) for m in methods]
     for value in (config, changed, config.person, config.depth, *forecasters):
         assert pickle.loads(pickle.dumps(value)) == value
         assert eval(repr(value), vars(tc)) == value  # the repr is the constructor call
@@ -332,11 +342,14 @@ def test_a_walkers_track_checks_its_forecasts_and_gives_intervals():
             assert track.intervals([0.4]) is None  # too short a history for a line
         if k == 5:
             early = track.intervals([0.4])  # nothing checked yet: the history's line speaks
+            assert early is not None
             assert early.shape == (1, 5) and np.isfinite(early).all() and (early > 0).all()
     ahead = track.forecast([1.0])
+    assert ahead is not None
     # More of the walk than the damped trend alone carries (1.5 (1 - e^(-1/1.5)) = 0.73 m).
     assert 0.75 < ahead[0, 1] - 99 / 25 < 1.1
     half = track.intervals([0.4, 1.0, 2.0])
+    assert half is not None
     assert half.shape == (3, 5) and np.isfinite(half).all() and (half > 0).all()
     assert half[0, 1] < 0.3  # the walking direction's error at 0.4 s stays within decimetres
     with pytest.raises(tc.InvalidArgumentError, match="horizons"):
@@ -349,7 +362,7 @@ def test_a_refused_frame_leaves_the_tracker_as_it_was():
     tracker = Tracker()
     joints, scores = person([2.0, 0.0, 1.0], np.pi)
     good = (joints[None], scores[None], CAMERA)
-    bad_frames = [
+    bad_frames: list[tuple[Any, ...]] = [
         (float("nan"), *good),
         (float("inf"), *good),
         (0.0, joints, scores, CAMERA),  # unbatched joints
@@ -458,10 +471,11 @@ def test_a_joint_too_far_to_be_a_body_is_missing_not_a_pose_the_forecaster_refus
         tracker.update(k / 25, joints[None], scores[None], CAMERA)
     far = joints.copy()
     far[coco.LEFT_HIP] = [1e308, 0.0, 1.0]
-    out = tracker.update(0.4, far[None], scores[None], CAMERA)
-    assert out[0].observation.estimate == "plane" and np.isfinite(out[0].observation.pose).all()
+    observation = tracker.update(0.4, far[None], scores[None], CAMERA)[0].observation
+    assert observation is not None
+    assert observation.estimate == "plane" and np.isfinite(pose_of(observation)).all()
     # The far joint was missing: the gate held its last position over instead of measuring it.
-    assert out[0].observation.joint_status[coco.LEFT_HIP] == tc.JointStatus.REPLACED
+    assert observation.joint_status[coco.LEFT_HIP] == tc.JointStatus.REPLACED
     with pytest.raises(tc.InvalidArgumentError, match="camera_position"):
         tracker.update(0.44, joints[None], scores[None], [1e308, 0.0, 0.0])
     assert tracker.last_time == 0.4
@@ -507,6 +521,7 @@ def test_the_joints_as_lifted_track_the_frame_again_as_it_was_tracked():
     for k in range(5):
         t = k / 15
         out = live.update(t, joints, scores, CAMERA)
+        assert out[1].observation is not None
         taken = out[1].observation.joints
         assert np.isnan(taken[[coco.RIGHT_SHOULDER, coco.RIGHT_HIP]]).all()
         np.testing.assert_array_equal(live.lifted, joints)
