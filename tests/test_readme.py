@@ -1,4 +1,5 @@
-"""The README's Python example is executed as written (the Rust one runs as a doctest)."""
+"""The README's Python example is executed as written (the Rust one runs as a doctest), and its
+headline figures are those of the benchmark's report in docs/benchmark.md."""
 
 import re
 from pathlib import Path
@@ -11,3 +12,46 @@ def test_readme_python_examples_run():
     assert blocks, "the README lost its Python example"
     for block in blocks:
         exec(compile(block, str(README), "exec"), {})
+
+
+BENCHMARK = README.parent / "docs" / "benchmark.md"
+
+
+def test_the_readme_s_headline_figures_are_the_benchmark_report_s():
+    # The README quotes the report split's headline (docs/benchmark.md, "The report split"): the
+    # two are written by hand from the same run, and a run written into one must reach the other.
+    report = BENCHMARK.read_text().split("## The report split", 1)[1]
+    headline = " ".join(report.split("### Headline", 1)[1].split("### ", 1)[0].split())
+    readme = " ".join(README.read_text().split())
+    found = re.search(
+        r"Torso estimates for ([\d.]+) % .*? in ([\d.]+) % of them \(90 % interval ([\d.]+) % to "
+        r"([\d.]+) % .*?\), ([\d.]+) % in the worst view bin .*?; ([\d.]+) % of the ([\d.]+) % "
+        r"whose heading .*? azimuth error median ([\d.]+),",
+        headline,
+    )
+    assert found, "the report's headline sentence changed its wording: update this test"
+    estimated, flips, low, high, worst, confident_flips, confident, median = found.groups()
+    for quoted in (
+        f"Torso estimates for {estimated} % of the person-frames in view, azimuth error median {median}",
+        f"in {flips} % of them (90 % interval {low} to {high} %",
+        f"{worst} % in the worst 45-degree view bin",
+        f"{confident} % of them, and those flip in {confident_flips} %",
+    ):
+        assert quoted in readme, quoted
+    # The forecasts' medians: the README's cells are torsocast / hold / constant velocity.
+    method = {"torsocast": 0, "hold the estimate": 1, "constant velocity": 2}
+    expected: dict[str, list[list[str]]] = {}
+    cell = r"\| ([\d.]+) "
+    for component, name, *medians in re.findall(
+        rf"\| (\w+ \((?:cm|deg)\)), ({'|'.join(method)}) {cell * 3}\|", headline
+    ):
+        columns = expected.setdefault(component, [["", "", ""] for _ in medians])
+        for horizon, value in enumerate(medians):
+            columns[horizon][method[name]] = value
+    triple = r"\| ([\d.]+) / ([\d.]+) / ([\d.]+) "
+    quoted_rows = {
+        component: [list(values[3 * h : 3 * h + 3]) for h in range(3)]
+        for component, *values in re.findall(rf"\| (\w+ \((?:cm|deg)\)) {triple * 3}\|", readme)
+    }
+    assert set(expected) == {"centre (cm)", "azimuth (deg)", "elevation (deg)"}
+    assert quoted_rows == expected
