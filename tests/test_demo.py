@@ -189,10 +189,11 @@ def test_demo_runs_on_bundled_data_and_matches_the_truth(tmp_path, capsys):
     lines = [json.loads(line) for line in (tmp_path / "frames.jsonl").read_text().splitlines()]
     assert len(lines) == 90 and (tmp_path / "demo.png").stat().st_size > 10_000
     assert (tmp_path / "overlay.avi").stat().st_size > 90 * 10_000  # 90 JPEGs of 640x480
-    # Measured on test_walking_1 with the bundled MoveNet: azimuth error median 3.2 deg, 90th
-    # percentile 9.1 deg, centre 8 cm; forecast centre error 0.4 s ahead 8 cm against 45 cm for
-    # holding still, 1 s ahead 8 against 122 cm. The azimuth forecast (6.2 and 8.4 deg) is
-    # still worse than holding (4.7 and 5.3) on this straight walk: bounded here, not hidden.
+    # Measured on test_walking_1 with the bundled MoveNet: azimuth error median 1.9 deg, 90th
+    # percentile 5.3 deg; forecast centre error 0.4 s ahead 5 cm against 51 cm for holding
+    # still, 1 s ahead 10 against 128 cm. The azimuth forecast is no worse than holding (issue
+    # 13's demo target): on this straight walk no steady turn is seen, and every azimuth forecast
+    # is the held estimate (2.8 and 2.4 deg both).
     median = float(printed.split("azimuth error median ")[1].split(" deg")[0])
     p90 = float(printed.split("90th percentile ")[1].split(" deg")[0])
     assert median < 6.0 and p90 < 14.0
@@ -205,7 +206,7 @@ def test_demo_runs_on_bundled_data_and_matches_the_truth(tmp_path, capsys):
         forecast, held = (float(row[k].split()[0]) for k in (3, 4))
         assert forecast < 0.6 * held
         forecast, held = (float(row[k].split()[0]) for k in (5, 6))
-        assert forecast < 2.0 * held
+        assert forecast <= held
     assert len(rows) == 2
 
 
