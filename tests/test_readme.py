@@ -55,3 +55,19 @@ def test_the_readme_s_headline_figures_are_the_benchmark_report_s():
     }
     assert set(expected) == {"centre (cm)", "azimuth (deg)", "elevation (deg)"}
     assert quoted_rows == expected
+    # The flips by distance: the 1-2 m band, the range beyond 2 m, and the near band's confidence.
+    distance = report.split("#### By distance", 1)[1].split("####", 1)[0]
+    bands = {
+        band: (flips, share, confident_flips)
+        for band, flips, share, confident_flips in re.findall(
+            r"\| ([\w -]+) \| \d+ \| [\d.]+ % \| ([\d.]+) % \| ([\d.]+) % / ([\d.]+) % \|", distance
+        )
+    }
+    near = bands["1-2 m"]
+    beyond = sorted((bands[b][0] for b in ("2-3 m", "3-4 m", "4 m and more")), key=float)
+    assert (
+        f"{near[0]} % of those 1 to 2 m from the camera" in readme
+        and f"({beyond[0]} to {beyond[-1]} % beyond 2 m; only {near[1]} % of the near ones are confident, "
+        f"below, and those flip in {near[2]} %)"
+        in readme
+    )
