@@ -70,17 +70,24 @@ def shared_path(*parts):
     return path
 
 
-def turntable_frames(count=None):
-    """The real turntable sequence's frames (its first ``count``, or all), every one of them
-    read (a frame the source could not read fails the test that needs them)."""
+def readable_frames(source, count=None):
+    """The first ``count`` frames of ``source`` (or all), every one of them read: a frame the
+    source could not read fails the test that needs them."""
     from itertools import islice
 
-    from torsocast.sources import Frame, open_source
+    from torsocast.sources import Frame
 
-    frames = list(islice(open_source(shared_path("data", "rgbd", "turntable")), count))
+    frames = list(islice(source, count))
     readable = [f for f in frames if isinstance(f, Frame)]
-    assert len(readable) == len(frames), "a turntable frame could not be read"
+    assert len(readable) == len(frames), f"{len(frames) - len(readable)} frames could not be read"
     return readable
+
+
+def turntable_frames(count=None):
+    """The real turntable sequence's frames (its first ``count``, or all), every one read."""
+    from torsocast.sources import open_source
+
+    return readable_frames(open_source(shared_path("data", "rgbd", "turntable")), count)
 
 
 @pytest.fixture(scope="session")
