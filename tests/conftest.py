@@ -70,6 +70,12 @@ def shared_path(*parts):
     return path
 
 
+def pose_of(observation) -> np.ndarray:
+    """The pose of an observation the test's frame must have given one."""
+    assert observation is not None and observation.pose is not None
+    return observation.pose
+
+
 def readable_frames(source, count=None):
     """The first ``count`` frames of ``source`` (or all), every one of them read: a frame the
     source could not read fails the test that needs them."""

@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from conftest import shared_path
+from conftest import pose_of, shared_path
 from torsocast import PersonConfig, wrap_angle
 from torsocast.cli import main
 from torsocast.datasets import cmu
@@ -476,9 +476,7 @@ def recover(spec, motion, model):
     errors = []
     for frame in scene:
         result = pipeline(frame)
-        observation = result.people[0].observation
-        assert observation is not None and observation.pose is not None
-        pose = observation.pose
+        pose = pose_of(result.people[0].observation)
         truth = frame.extra["truth"][0]
         errors.append(
             [

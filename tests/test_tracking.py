@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import torsocast as tc
+from conftest import pose_of
 from torsocast.keypoints import coco
 from torsocast.tracker import PersonConfig, Tracker, TrackerConfig
 
@@ -45,12 +46,6 @@ def swap_sides(values):
     for left, right in coco.LEFT_RIGHT_PAIRS:
         out[[left, right]] = values[[right, left]]
     return out
-
-
-def pose_of(obs) -> np.ndarray:
-    """The pose of an observation the test's frame must have given one."""
-    assert obs is not None and obs.pose is not None
-    return obs.pose
 
 
 def test_a_turning_person_keeps_the_detectors_labels_and_a_short_swap_is_undone():
