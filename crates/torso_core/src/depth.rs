@@ -19,9 +19,12 @@
 
 use crate::error::{Error, Result};
 
-/// Largest window radius: the window's readings are sorted on the stack.
+/// Largest window radius: the window's readings are gathered on the stack.
 pub const MAX_RADIUS: usize = 10;
 const MAX_WINDOW: usize = (2 * MAX_RADIUS + 1) * (2 * MAX_RADIUS + 1);
+/// The window radius of [`DepthLookup::default`].
+const DEFAULT_RADIUS: usize = 3;
+const DEFAULT_WINDOW: usize = (2 * DEFAULT_RADIUS + 1) * (2 * DEFAULT_RADIUS + 1);
 
 /// A depth image in metres, borrowed, row-major (`data[row * width + column]`).
 ///
@@ -94,7 +97,7 @@ pub struct DepthLookup {
 impl Default for DepthLookup {
     fn default() -> Self {
         Self {
-            radius: 3,
+            radius: DEFAULT_RADIUS,
             band: 0.15,
             min_valid: 4,
             min_depth: 0.2,
@@ -160,6 +163,21 @@ impl DepthLookup {
         Ok(())
     }
 
+    /// `min_depth..=max_depth` as the `f32` readings in it: the nearest and furthest `f32` whose
+    /// value lies within the range, so that each reading is tested without widening it.
+    fn valid_range(&self) -> (f32, f32) {
+        // Positive finite `f32`s order as their bit patterns; `as` rounds to the nearest.
+        let mut nearest = self.min_depth as f32;
+        if f64::from(nearest) < self.min_depth {
+            nearest = f32::from_bits(nearest.to_bits() + 1);
+        }
+        let mut furthest = self.max_depth as f32;
+        if f64::from(furthest) > self.max_depth {
+            furthest = f32::from_bits(furthest.to_bits() - 1);
+        }
+        (nearest, furthest)
+    }
+
     /// Depth (m) at pixel `uv`; NaN off the image or without enough readings. The lookup is
     /// assumed valid ([`validate`](Self::validate)).
     pub fn depth_at(&self, image: &DepthImage<'_>, [u, v]: [f64; 2]) -> f64 {
@@ -167,16 +185,32 @@ impl DepthLookup {
         if !(u >= -0.5 && v >= -0.5 && u < w - 0.5 && v < h - 0.5) {
             return f64::NAN;
         }
+        let centre = (u.round_ties_even() as isize, v.round_ties_even() as isize);
+        // The readings' buffer is zeroed on every call: the default window's own size, not the
+        // largest window's, keeps that cheap.
+        if self.radius <= DEFAULT_RADIUS {
+            self.window_depth::<DEFAULT_WINDOW>(image, centre)
+        } else {
+            self.window_depth::<MAX_WINDOW>(image, centre)
+        }
+    }
+
+    /// [`depth_at`](Self::depth_at) of the window around pixel `(cu, cv)`, its readings gathered
+    /// in a buffer of `N` (at least the window's pixel count).
+    fn window_depth<const N: usize>(
+        &self,
+        image: &DepthImage<'_>,
+        (cu, cv): (isize, isize),
+    ) -> f64 {
         let r = self.radius.min(MAX_RADIUS) as isize;
-        let (cu, cv) = (u.round_ties_even() as isize, v.round_ties_even() as isize);
         let (width, height) = (image.width as isize, image.height as isize);
         // Valid readings are non-negative, so their bit patterns order as their values do, and
         // integer comparisons are the cheapest there are.
-        let mut readings = [0u32; MAX_WINDOW];
+        let mut readings = [0u32; N];
         let mut count = 0;
+        let (nearest, furthest) = self.valid_range();
         let mut take = |z: f32| {
-            let metres = f64::from(z);
-            if metres >= self.min_depth && metres <= self.max_depth {
+            if z >= nearest && z <= furthest {
                 readings[count] = (z + 0.0).to_bits(); // -0.0 as +0.0
                 count += 1;
             }
@@ -262,30 +296,60 @@ mod tests {
     }
 
     #[test]
+    fn a_reading_is_valid_exactly_where_its_value_lies_in_the_range() {
+        let next = |z: f32, step: i32| f32::from_bits((z.to_bits() as i32 + step) as u32);
+        // Ends no f32 holds exactly, rounded by `as` into the range (0.7, 1.1) and out of it (0.2,
+        // 0.7); ends f32 holds (0, 10); ends beyond f32's range.
+        for (min_depth, max_depth) in [(0.7, 1.1), (0.2, 0.7), (0.0, 10.0), (1e-50, 1e300)] {
+            let lookup = DepthLookup {
+                radius: 0,
+                min_valid: 1,
+                min_depth,
+                max_depth,
+                ..DepthLookup::default()
+            };
+            let ends = [min_depth as f32, max_depth as f32, 0.0, f32::MAX];
+            for z in ends
+                .into_iter()
+                .flat_map(|z| (-2..=2).map(move |k| next(z, k)))
+            {
+                let image = DepthImage::new(std::slice::from_ref(&z), 1, 1).unwrap();
+                let valid = (min_depth..=max_depth).contains(&f64::from(z));
+                let got = lookup.depth_at(&image, [0.0, 0.0]);
+                assert_eq!(got.is_nan(), !valid, "{z:e} in {min_depth}..={max_depth}");
+            }
+        }
+    }
+
+    #[test]
     fn the_lookup_matches_its_plain_definition_inside_at_the_borders_and_on_holes() {
         let (w, h) = (37usize, 23usize);
         let mut next = crate::testing::uniform(7);
         let levels = [0.0, f32::NAN, 1.0, 1.05, 1.1, 1.3, 2.5, 11.0];
-        let data: Vec<f32> = (0..w * h)
-            .map(|_| levels[(next() * levels.len() as f64) as usize] + 0.01 * next() as f32)
-            .collect();
-        let image = DepthImage::new(&data, w, h).unwrap();
-        for radius in [0, 1, 3] {
-            let lookup = DepthLookup {
-                radius,
-                min_valid: 1.max(radius),
-                ..DepthLookup::default()
-            };
-            for _ in 0..400 {
-                let uv = [next() * 40.0 - 2.0, next() * 26.0 - 2.0];
-                let got = lookup.depth_at(&image, uv);
-                let want = reference(&lookup, &data, w, h, uv);
-                assert!(
-                    got == want || (got.is_nan() && want.is_nan()),
-                    "{uv:?}: {got} {want}"
-                );
+        // Readings spread about each level, and readings exactly on them (ties).
+        for jitter in [0.01f32, 0.0] {
+            let data: Vec<f32> = (0..w * h)
+                .map(|_| levels[(next() * levels.len() as f64) as usize] + jitter * next() as f32)
+                .collect();
+            let image = DepthImage::new(&data, w, h).unwrap();
+            // Radii up to the default's gather in its small buffer, larger ones in the largest.
+            for radius in [0, 1, 2, 3, 4, 7] {
+                let lookup = DepthLookup {
+                    radius,
+                    min_valid: 1.max(radius),
+                    ..DepthLookup::default()
+                };
+                for _ in 0..400 {
+                    let uv = [next() * 40.0 - 2.0, next() * 26.0 - 2.0];
+                    let got = lookup.depth_at(&image, uv);
+                    let want = reference(&lookup, &data, w, h, uv);
+                    assert!(
+                        got == want || (got.is_nan() && want.is_nan()),
+                        "{uv:?}: {got} {want}"
+                    );
+                }
             }
+            assert!(DepthImage::new(&data, w, h + 1).is_err());
         }
-        assert!(DepthImage::new(&data, w, h + 1).is_err());
     }
 }

@@ -13,7 +13,7 @@
 
 use crate::coco::{Joints, TORSO};
 use crate::tracker::MIN_SEPARATION;
-use crate::vec3::{distance, finite, horizontal_distance};
+use crate::vec3::{distance, finite, horizontal_distance, horizontally_within};
 
 /// The farthest (m) a torso joint may lie, horizontally, from the median of the other three: a
 /// frontal torso with broad shoulders (0.5 m) and hips (0.35 m) puts a shoulder about 0.43 m
@@ -133,7 +133,7 @@ pub fn drop_read_off_nearer(
             continue;
         }
         for x in joints.iter_mut().filter(|x| finite(x)) {
-            if horizontal_distance(*x, front) < MIN_SEPARATION {
+            if horizontally_within(*x, front, MIN_SEPARATION) {
                 *x = [f64::NAN; 3];
                 dropped += 1;
             }

@@ -30,6 +30,13 @@ pub(crate) fn horizontal_distance(a: [f64; 3], b: [f64; 3]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
 }
 
+/// Whether [`horizontal_distance`] is under `limit`, without its square root: a test made for
+/// every joint against every person nearer the camera, where `hypot` is a slow library call.
+pub(crate) fn horizontally_within(a: [f64; 3], b: [f64; 3], limit: f64) -> bool {
+    let (dx, dy) = (a[0] - b[0], a[1] - b[1]);
+    dx * dx + dy * dy < limit * limit
+}
+
 pub(crate) fn midpoint(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [
         0.5 * (a[0] + b[0]),
