@@ -1,5 +1,6 @@
-"""The README's Python example is executed as written (the Rust one runs as a doctest), and its
-headline figures are those of the benchmark's report in docs/benchmark.md."""
+"""The README's Python example is executed as written (the Rust one runs as a doctest), its
+headline figures are those of the benchmark's report in docs/benchmark.md, and the links within
+the README and each document in docs/ reach their headings."""
 
 import re
 from pathlib import Path
@@ -71,3 +72,19 @@ def test_the_readme_s_headline_figures_are_the_benchmark_report_s():
         f"below, and those flip in {near[2]} %)"
         in readme
     )
+
+
+def _anchor(heading: str) -> str:
+    """GitHub's anchor of a Markdown heading: lower case, punctuation dropped, spaces as hyphens."""
+    return re.sub(r"[^\w\- ]", "", heading.strip().lower()).replace(" ", "-")
+
+
+def test_every_link_within_a_document_reaches_one_of_its_headings():
+    # docs/benchmark.md's reader's map links some fifty sections by their anchors; a section
+    # renamed leaves a link that goes nowhere.
+    for doc in [README, *sorted((README.parent / "docs").glob("*.md"))]:
+        text = doc.read_text()
+        anchors = {_anchor(h) for h in re.findall(r"^#+ (.+)$", text, flags=re.M)}
+        links = re.findall(r"\]\(#([^)]+)\)", text)
+        missing = [link for link in links if link not in anchors]
+        assert not missing, f"{doc.name}: links to no heading: {missing}"
