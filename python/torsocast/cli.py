@@ -136,6 +136,7 @@ def _eval_h36m(args: argparse.Namespace) -> int:
 
 def _eval_scenes(args: argparse.Namespace) -> int:
     from .evaluation.scenes import report
+    from .evaluation.scenes.oracle import Oracle
     from .evaluation.scenes.plan import CMU_ENV, FULL, QUICK, Catalogue, data_folder
     from .evaluation.scenes.run import YOLO_ENV, Models, evaluate
 
@@ -156,6 +157,7 @@ def _eval_scenes(args: argparse.Namespace) -> int:
     if _out_folder(args.out) is None or (args.cache and _out_folder(args.cache, "--cache") is None):
         return 2
     try:
+        oracle = Oracle.parse(args.oracle_labels, args.oracle_joints)
         catalogue = Catalogue.find(args.split, cmu_root, h36m_root)
         models = Models.open(yolo)
     except (FileNotFoundError, ValueError, RuntimeError) as e:
@@ -163,9 +165,7 @@ def _eval_scenes(args: argparse.Namespace) -> int:
         return 2
     cache = Path(args.cache) if args.cache else None
     try:
-        bench = evaluate(
-            catalogue, models, args.seed, args.quick, size, cache=cache, oracle_labels=args.oracle_labels
-        )
+        bench = evaluate(catalogue, models, args.seed, args.quick, size, cache=cache, oracle=oracle)
     except ValueError as e:
         print(f"torsocast eval scenes: {e}", file=sys.stderr)
         return 2
@@ -400,6 +400,13 @@ def main(argv: list[str] | None = None) -> int:
         action="store_true",
         help="replay the --cache with the detector's left/right labels put right by the truth: "
         "how far any cue to the labels could take the flips (a bound, not a result)",
+    )
+    sc.add_argument(
+        "--oracle-joints",
+        metavar="GROUPS",
+        help="replay the --cache with the seen joints of GROUPS (comma-separated: shoulders, hips, "
+        "legs) put at the truth's 3D positions: which measurements the flips come from (a "
+        "diagnostic, not a result)",
     )
     sc.set_defaults(run=_eval_scenes)
     cp = ev_sub.add_parser(

@@ -140,6 +140,12 @@ class RenderedScene:
         k = self.sample(actor, t)
         return np.where((k >= 0)[..., None], self.truths[actor][np.maximum(k, 0)], np.nan)  # type: ignore[no-any-return]
 
+    def joints_at(self, actor: int, t: float) -> F64 | None:
+        """The skeleton of ``actor`` at scene time ``t`` as placed in the world (the CMU skeleton's
+        joints, ``(38, 3)``), None where the actor is not in the scene then."""
+        k = int(self.sample(actor, t))
+        return self.placed[actor][k] if k >= 0 else None
+
     def __iter__(self) -> Iterator[Frame]:
         rng = np.random.default_rng(self.spec.seed)
         rays = self.scene.rays(self.camera)

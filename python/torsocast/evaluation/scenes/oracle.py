@@ -1,24 +1,110 @@
-"""The detector's left/right labels put right by the truth: an upper bound, not a result.
+"""What a replay of recorded detections can put right by the truth before tracking: upper
+bounds and diagnostics, not results.
 
-How much of the front/back flips is the keypoint model's labelling of the body's sides, and how
-much the track's own choice of side? Replaying a split's recorded detections with every wrong
-pair of labels exchanged answers it: whatever flips remain, no cue to the labels (the face, the
-knees, a flip test of the detector) could remove. A pair is judged on its lifted joints: the
-normal of the pair's line, (left - right) x up, on the side of the person's true heading or not.
-The shoulders and the hips are judged each on their own; the other pairs (eyes, ears, arms,
-legs) follow the shoulders, or the hips where the shoulders are not both seen. The plane is
-fitted later, after the gate and the far joint's depth completion, so the bound is approximate.
+**The labels** (``--oracle-labels``). How much of the front/back flips is the keypoint model's
+labelling of the body's sides, and how much the track's own choice of side? Replaying a split's
+recorded detections with every wrong pair of labels exchanged answers it: whatever flips remain,
+no cue to the labels (the face, the knees, a flip test of the detector) could remove. A pair is
+judged on its lifted joints: the normal of the pair's line, (left - right) x up, on the side of
+the person's true heading or not. The shoulders and the hips are judged each on their own; the
+other pairs (eyes, ears, arms, legs) follow the shoulders, or the hips where the shoulders are
+not both seen. The plane is fitted later, after the gate and the far joint's depth completion,
+so the bound is approximate.
+
+**The joints** (``--oracle-joints``). How many flips are the heading rules' own, and which
+joints' measurements the rest come from? Each lifted joint of the named groups that the
+detector saw is put at the true joint's 3D position (its centre, where the depth camera reads
+the body's surface); everything else stays as recorded: which joints were seen, their scores,
+the keypoints and the other joints.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 import numpy.typing as npt
 
+from ...datasets import cmu
 from ...keypoints import coco
+
+F64 = npt.NDArray[np.float64]
 
 #: The pairs judged on their own: the shoulders, then the hips.
 JUDGED = ((coco.LEFT_SHOULDER, coco.RIGHT_SHOULDER), (coco.LEFT_HIP, coco.RIGHT_HIP))
+
+#: The joint groups ``--oracle-joints`` puts at the truth: COCO keypoint -> CMU skeleton joint.
+JOINT_GROUPS: dict[str, dict[int, int]] = {
+    "shoulders": {coco.LEFT_SHOULDER: cmu.LEFT_SHOULDER, coco.RIGHT_SHOULDER: cmu.RIGHT_SHOULDER},
+    "hips": {coco.LEFT_HIP: cmu.LEFT_HIP, coco.RIGHT_HIP: cmu.RIGHT_HIP},
+    "legs": {
+        coco.INDEX["left_knee"]: cmu.LEFT_KNEE,
+        coco.INDEX["right_knee"]: cmu.RIGHT_KNEE,
+        coco.INDEX["left_ankle"]: cmu.LEFT_ANKLE,
+        coco.INDEX["right_ankle"]: cmu.RIGHT_ANKLE,
+    },
+}
+
+
+@dataclass(frozen=True)
+class Oracle:
+    """What a replay puts right by the truth: the detector's left/right labels, and the joint
+    groups (names of :data:`JOINT_GROUPS`) put at their true positions. Empty: nothing."""
+
+    labels: bool = False
+    joints: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        unknown = [g for g in self.joints if g not in JOINT_GROUPS]
+        if unknown:
+            raise ValueError(
+                f"--oracle-joints: unknown joint group {unknown[0]!r} "
+                f"(expected some of {', '.join(JOINT_GROUPS)})"
+            )
+
+    def __bool__(self) -> bool:
+        return self.labels or bool(self.joints)
+
+    @classmethod
+    def parse(cls, labels: bool, joints: str | None) -> Oracle:
+        """From the command line: ``joints`` a comma-separated list of group names, or None."""
+        return cls(labels, tuple(g.strip() for g in joints.split(",")) if joints else ())
+
+    @property
+    def options(self) -> str:
+        """The command-line options that ask for it, as a user typed them."""
+        return " and ".join(
+            o for o, on in (("--oracle-labels", self.labels), ("--oracle-joints", self.joints)) if on
+        )
+
+    def notes(self) -> list[str]:
+        """What the report says it is."""
+        out = []
+        if self.labels:
+            out.append(
+                "the detector's left/right labels put right by the truth (--oracle-labels): "
+                "a bound, not a result"
+            )
+        if self.joints:
+            out.append(
+                f"the seen {', '.join(self.joints)} joints put at the truth's (--oracle-joints): "
+                "a diagnostic, not a result"
+            )
+        return out
+
+    def apply(
+        self, keypoints: F64, joints: F64, owner: list[int], truth: F64, skeletons: list[F64 | None]
+    ) -> None:
+        """Puts, in place, one frame's recorded detections right as asked (``truth``: people x
+        pose; ``skeletons``: each person's skeleton at that time, None where absent)."""
+        if self.labels:
+            put_labels_right(keypoints, joints, owner, truth)
+        if self.joints:
+            put_joints_at_truth(joints, owner, skeletons, self.joints)
+
+
+#: Nothing put right: a replay as recorded.
+NO_ORACLE = Oracle()
 
 
 def pair_is_right(joints: npt.NDArray[np.float64], left: int, right: int, heading: float) -> bool | None:
@@ -59,3 +145,23 @@ def put_labels_right(
                     a[[left, right]] = a[[right, left]]
         changed += 1
     return changed
+
+
+def put_joints_at_truth(
+    joints: F64, owner: list[int], skeletons: list[F64 | None], groups: tuple[str, ...]
+) -> int:
+    """Moves, in place, each seen (finite) joint of the :data:`JOINT_GROUPS` ``groups`` of every
+    detection owned by a person (``owner``: person index or -1) to that person's true joint
+    (``skeletons[person]``: the CMU skeleton, ``(38, 3)``; None: the person is absent, nothing
+    moved); returns how many joints moved."""
+    mapping = {c: j for g in groups for c, j in JOINT_GROUPS[g].items()}
+    moved = 0
+    for d, person in enumerate(owner):
+        skeleton = skeletons[person] if person >= 0 else None
+        if skeleton is None:
+            continue
+        for c, j in mapping.items():
+            if np.isfinite(joints[d, c]).all():
+                joints[d, c] = skeleton[j]
+                moved += 1
+    return moved

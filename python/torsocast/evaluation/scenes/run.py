@@ -17,7 +17,7 @@ from ...pipeline import FrameResult, Pipeline
 from ...progress import Progress
 from ...sources import Frame
 from ...synthetic.scenes import RenderedScene, SceneSpec
-from .oracle import put_labels_right
+from .oracle import NO_ORACLE, Oracle
 from .plan import FULL, QUICK, Catalogue, Size, draw_scene
 from .score import SceneScore, Scorer, assign
 
@@ -97,9 +97,9 @@ def _live(scene: RenderedScene, pipeline: Pipeline, record: dict[str, list] | No
         yield frame, result, owner, visible
 
 
-def _replay(scene: RenderedScene, pipeline: Pipeline, path: Path, oracle: bool = False):  # type: ignore[no-untyped-def]
+def _replay(scene: RenderedScene, pipeline: Pipeline, path: Path, oracle: Oracle):  # type: ignore[no-untyped-def]
     """The frames' detections and lifted joints as recorded, through the tracking stages only;
-    with ``oracle``, their left/right labels put right by the truth first (:mod:`.oracle`)."""
+    with an ``oracle``, what it asks put right by the truth first (:mod:`.oracle`)."""
     # Each item of an .npz is read (and decompressed) again on every access: read them once.
     with np.load(path) as archive:
         data = {name: archive[name] for name in archive.files}
@@ -111,7 +111,8 @@ def _replay(scene: RenderedScene, pipeline: Pipeline, path: Path, oracle: bool =
         truth = np.array([scene.truth_at(i, t) for i in range(len(scene.clips))]).reshape(-1, 5)
         if oracle:
             keypoints, joints = keypoints.copy(), joints.copy()  # put right in place
-            put_labels_right(keypoints, joints, owner, truth)
+            skeletons = [scene.joints_at(i, float(t)) for i in range(len(scene.clips))]
+            oracle.apply(keypoints, joints, owner, truth, skeletons)
         detections = Detections(keypoints, np.zeros((len(keypoints), 4)), np.ones(len(keypoints)))
         frame = Frame(k, float(t), np.zeros((1, 1, 3), np.uint8), None, scene.camera)
         frame.extra["truth"] = truth
@@ -125,27 +126,27 @@ def run_scene(
     model: KeypointModel,
     horizons: Sequence[float] = HORIZONS,
     cache: Path | None = None,
-    oracle_labels: bool = False,
+    oracle: Oracle = NO_ORACLE,
 ) -> tuple[SceneScore, FrameResult | None, int]:
     """One scene through the pipeline: its :class:`~.score.SceneScore`, the frame with the most
     forecasts (None when replayed) and its number of frames. With a ``cache`` folder, the
     model's detections and the lifted joints of each frame are kept there, and a later run of
     the same scene with the same model replays them through the tracking stages alone (for
-    changes after the model: tracking, the per-person chain, forecasting, scoring). With
-    ``oracle_labels``, a replay puts the detector's left/right labels right by the truth first
-    (:mod:`.oracle`: an upper bound, not a result)."""
+    changes after the model: tracking, the per-person chain, forecasting, scoring). With an
+    ``oracle``, a replay puts what it asks right by the truth first (:mod:`.oracle`: bounds and
+    diagnostics, not results)."""
     scene = RenderedScene(spec, {a.motion: catalogue.motion(a.motion) for a in spec.actors})
     pipeline = Pipeline(model, horizons)
     scorer = Scorer(scene, list(horizons), pipeline.tracker_config.person.min_score)
     path = _cache_file(cache, spec, model) if cache is not None else None
     record: dict[str, list] | None = defaultdict(list) if path is not None else None  # type: ignore[type-arg]
     replaying = path is not None and path.is_file()
-    if oracle_labels and not replaying:
+    if oracle and not replaying:
         raise ValueError(
-            f"--oracle-labels replays recorded detections, and {spec.name} has none in the cache"
+            f"{oracle.options} replays recorded detections, and {spec.name} has none in the cache"
         )
     frames = (
-        _replay(scene, pipeline, path, oracle_labels)  # type: ignore[arg-type]
+        _replay(scene, pipeline, path, oracle)  # type: ignore[arg-type]
         if replaying
         else _live(scene, pipeline, record)
     )
@@ -175,10 +176,10 @@ def evaluate(
     size: Size | None = None,
     progress: bool = True,
     cache: Path | None = None,
-    oracle_labels: bool = False,
+    oracle: Oracle = NO_ORACLE,
 ) -> Benchmark:
-    """Draws the split's scenes for ``seed`` and runs them all (``cache`` and ``oracle_labels``:
-    see :func:`run_scene`; the oracle needs every scene recorded, and says so before any work)."""
+    """Draws the split's scenes for ``seed`` and runs them all (``cache`` and ``oracle``: see
+    :func:`run_scene`; an oracle needs every scene recorded, and says so before any work)."""
     size = size or (QUICK if quick else FULL)
     specs = [draw_scene(catalogue, i, seed, size) for i in range(size.scenes)]
     specs += [draw_scene(catalogue, size.scenes + i, seed, size, turning=True) for i in range(size.turning)]
@@ -192,7 +193,7 @@ def evaluate(
             f"{len(skipped)} scenes with several people left out"
         )
     bench.specs = specs
-    if oracle_labels:
+    if oracle:
         missing = [
             s.name
             for s in specs
@@ -200,18 +201,16 @@ def evaluate(
         ]
         if missing:
             raise ValueError(
-                f"--oracle-labels replays recorded detections: {len(missing)} of the {len(specs)} scenes "
-                "have none (run eval scenes with the same --cache first)"
+                f"{oracle.options} replays recorded detections: {len(missing)} of the {len(specs)} "
+                "scenes have none (run eval scenes with the same --cache first)"
             )
-        bench.notes.append(
-            "the detector's left/right labels put right by the truth (--oracle-labels): a bound, not a result"
-        )
+        bench.notes.extend(oracle.notes())
     bar = Progress(len(specs), f"eval scenes ({catalogue.split})") if progress else None
     best_count = 0
     for spec in specs:
         model = models.for_scene(spec)
         assert model is not None
-        score, best, frames = run_scene(spec, catalogue, model, cache=cache, oracle_labels=oracle_labels)
+        score, best, frames = run_scene(spec, catalogue, model, cache=cache, oracle=oracle)
         for table in ("recovery", "forecasts", "identity"):
             for key, values in getattr(score, table).items():
                 getattr(bench, table)[key].extend(values)
