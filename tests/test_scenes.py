@@ -682,7 +682,7 @@ def test_eval_scenes_quick_runs_and_its_numbers_come_back_for_the_seed(tmp_path,
     spec = SceneSpec(**{**spec_dict, "actors": actors})
     catalogue = Catalogue.find("report", cmu_root, h36m_root)
     models = Models.open(yolo)
-    model = models.single if len(actors) == 1 else models.multi
+    model = models.for_scene(spec)
     assert model is not None
     score, _, _ = run_scene(spec, catalogue, model)
     with open(tmp_path / "recovery.csv") as f:
