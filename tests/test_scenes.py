@@ -17,7 +17,7 @@ from conftest import pose_of, shared_path
 from torsocast import PersonConfig, wrap_angle
 from torsocast.cli import main
 from torsocast.datasets import cmu
-from torsocast.evaluation.scenes.oracle import Oracle, put_joints_at_truth
+from torsocast.evaluation.scenes.oracle import Oracle, lift_at_true_pixels, put_joints_at_truth
 from torsocast.evaluation.scenes.score import TrackSide, assign, flip_source, view_angle
 from torsocast.evaluation.scenes.tables import (
     age_bin,
@@ -366,6 +366,45 @@ def test_the_joint_oracle_puts_seen_joints_of_owned_detections_at_the_truth():
         Oracle.parse(False, "shoulders,elbows")
 
 
+def test_the_pixel_oracle_lifts_seen_joints_from_their_true_pixels():
+    # A level camera 1 m up facing a wall 3 m away: a joint on the wall, lifted from its true
+    # pixel, comes back where it is. Detection 0 belongs to person 0 and saw its hips and left
+    # knee (which lies behind the camera), not its right knee; detection 1 belongs to no one.
+    from torsocast.camera import Camera, Intrinsics, level_camera
+    from torsocast.sources import Frame
+    from torsocast.tracker import TrackerConfig
+
+    camera = Camera(Intrinsics(500.0, 500.0, 320.0, 240.0), level_camera(1.0))
+    frame = Frame(0, 0.0, np.zeros((480, 640, 3), np.uint8), np.full((480, 640), 3.0, np.float32), camera)
+    skeleton = np.full((38, 3), 50.0)
+    skeleton[cmu.LEFT_HIP], skeleton[cmu.RIGHT_HIP] = (3.0, 0.12, 0.9), (3.0, -0.1, 0.95)
+    skeleton[cmu.LEFT_KNEE] = (-1.0, 0.1, 0.5)
+    keypoints = np.full((2, 17, 3), 0.8)
+    joints = np.full((2, 17, 3), 7.0)
+    right_knee = coco.INDEX["right_knee"]
+    joints[0, right_knee] = np.nan
+    before_k, before_j = keypoints.copy(), joints.copy()
+    groups = ("hips", "legs")
+    lifted = lift_at_true_pixels(keypoints, joints, [0, -1], [skeleton], groups, frame, TrackerConfig())
+    assert lifted == 5  # both hips, the left knee and both ankles (seen, at the truth's 50 m)
+    for c, j in ((coco.LEFT_HIP, cmu.LEFT_HIP), (coco.RIGHT_HIP, cmu.RIGHT_HIP)):
+        np.testing.assert_allclose(joints[0, c], skeleton[j], atol=1e-5)
+    # The right hip 0.1 m right of the optical axis and 0.05 m below it, 3 m ahead.
+    pixel = [320.0 + 500 * 0.1 / 3, 240.0 + 500 * 0.05 / 3, 0.8]
+    np.testing.assert_allclose(keypoints[0, coco.RIGHT_HIP], pixel)
+    assert np.isnan(joints[0, coco.INDEX["left_knee"]]).all()  # behind the camera: no pixel
+    assert np.isnan(joints[0, coco.INDEX["left_ankle"]]).all()  # 50 m up: off the image
+    assert np.isnan(joints[0, right_knee]).all() and (keypoints[0, right_knee] == 0.8).all()
+    assert np.array_equal(joints[0, coco.TORSO[:2]], before_j[0, coco.TORSO[:2]])  # shoulders not asked
+    assert np.array_equal(joints[1], before_j[1]) and np.array_equal(keypoints[1], before_k[1])
+    assert Oracle(pixels=("hips",)).options == "--oracle-pixels"
+    assert Oracle.parse(False, "legs", "hips") == Oracle(False, ("legs",), ("hips",))
+    with pytest.raises(ValueError, match="--oracle-pixels: unknown joint group 'elbows'"):
+        Oracle.parse(False, None, "elbows")
+    with pytest.raises(ValueError, match="both name 'hips'"):
+        Oracle.parse(False, "hips", "legs,hips")
+
+
 def test_the_label_oracle_refuses_scenes_it_cannot_replay(tmp_path, capsys):
     # Nothing recorded in the cache yet: one line and exit code 2, before any scene is run.
     cmu_root, h36m_root = shared_path("data", "cmu"), shared_path("data", "h36m")
@@ -382,6 +421,12 @@ def test_the_label_oracle_refuses_scenes_it_cannot_replay(tmp_path, capsys):
     assert main([*args[:-1], "--oracle-joints", "hips,elbows"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "unknown joint group 'elbows'" in err
+    # The pixels' oracle alike, and a group named by both joint oracles refused in one line.
+    assert main([*args[:-1], "--oracle-pixels", "hips"]) == 2
+    assert "--oracle-pixels replays recorded detections" in capsys.readouterr().err
+    assert main([*args[:-1], "--oracle-joints", "hips", "--oracle-pixels", "hips"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "both name 'hips'" in err
 
 
 def test_two_runs_compare_their_forecasts_scene_by_scene(tmp_path, capsys):
@@ -571,6 +616,12 @@ def test_a_replayed_scene_scores_as_the_live_one(tmp_path):
     assert np.array_equal(np.isnan(errors["oracle"]), np.isnan(errors["recorded"]))
     assert np.nanmedian(errors["oracle"]) < 0.5 < 5.0 < np.nanmedian(errors["recorded"])
     assert np.nanmax(errors["oracle"]) < 5.0
+    # Lifted from their true pixels instead, the depth read on the body's surface there: nearer
+    # the truth than MoveNet's keypoints, not as near as the joints themselves.
+    true_pixels = Oracle(pixels=("shoulders", "hips", "legs"))
+    pixels, _, _ = run_scene(spec, catalogue, model, cache=tmp_path, oracle=true_pixels)
+    error = np.degrees(np.abs(np.asarray(pixels.recovery["azimuth"], dtype=float)))
+    assert np.nanmedian(errors["oracle"]) < np.nanmedian(error) < np.nanmedian(errors["recorded"])
 
 
 def test_the_runtime_imports_neither_the_renderer_nor_the_evaluations():

@@ -157,7 +157,7 @@ def _eval_scenes(args: argparse.Namespace) -> int:
     if _out_folder(args.out) is None or (args.cache and _out_folder(args.cache, "--cache") is None):
         return 2
     try:
-        oracle = Oracle.parse(args.oracle_labels, args.oracle_joints)
+        oracle = Oracle.parse(args.oracle_labels, args.oracle_joints, args.oracle_pixels)
         catalogue = Catalogue.find(args.split, cmu_root, h36m_root)
         models = Models.open(yolo)
     except (FileNotFoundError, ValueError, RuntimeError) as e:
@@ -407,6 +407,13 @@ def main(argv: list[str] | None = None) -> int:
         help="replay the --cache with the seen joints of GROUPS (comma-separated: shoulders, hips, "
         "legs) put at the truth's 3D positions: which measurements the flips come from (a "
         "diagnostic, not a result)",
+    )
+    sc.add_argument(
+        "--oracle-pixels",
+        metavar="GROUPS",
+        help="replay the --cache with the seen joints of GROUPS put at their true pixels and "
+        "lifted there from the depth image rendered again: the flips a perfect 2D model would "
+        "leave (a diagnostic, not a result; as slow as a live run)",
     )
     sc.set_defaults(run=_eval_scenes)
     cp = ev_sub.add_parser(

@@ -16,6 +16,14 @@ joints' measurements the rest come from? Each lifted joint of the named groups t
 detector saw is put at the true joint's 3D position (its centre, where the depth camera reads
 the body's surface); everything else stays as recorded: which joints were seen, their scores,
 the keypoints and the other joints.
+
+**The pixels** (``--oracle-pixels``). How many flips would a perfect 2D keypoint model leave?
+Each seen joint of the named groups has its keypoint put at the true joint's pixel (its centre
+projected into the image) and is lifted again there, by the core's own depth lookup, from the
+frame's depth image rendered again: the depth read at a joint's true pixel is whatever surface
+shows there (a thigh in front of a hip, the near side of the body in profile). The flips left
+are the depth's and the rules', not the keypoints'. It renders every frame, so it runs at the
+speed of a live run, not of a replay.
 """
 
 from __future__ import annotations
@@ -27,6 +35,8 @@ import numpy.typing as npt
 
 from ...datasets import cmu
 from ...keypoints import coco
+from ...sources import Frame
+from ...tracker import Tracker, TrackerConfig
 
 F64 = npt.NDArray[np.float64]
 
@@ -48,34 +58,45 @@ JOINT_GROUPS: dict[str, dict[int, int]] = {
 
 @dataclass(frozen=True)
 class Oracle:
-    """What a replay puts right by the truth: the detector's left/right labels, and the joint
-    groups (names of :data:`JOINT_GROUPS`) put at their true positions. Empty: nothing."""
+    """What a replay puts right by the truth: the detector's left/right labels, the joint groups
+    (names of :data:`JOINT_GROUPS`) put at their true positions, and those lifted from their
+    true pixels. Empty: nothing."""
 
     labels: bool = False
     joints: tuple[str, ...] = ()
+    pixels: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
-        unknown = [g for g in self.joints if g not in JOINT_GROUPS]
-        if unknown:
+        for option, groups in (("--oracle-joints", self.joints), ("--oracle-pixels", self.pixels)):
+            unknown = [g for g in groups if g not in JOINT_GROUPS]
+            if unknown:
+                known = ", ".join(JOINT_GROUPS)
+                raise ValueError(f"{option}: unknown joint group {unknown[0]!r} (expected some of {known})")
+        both = [g for g in self.pixels if g in self.joints]
+        if both:
             raise ValueError(
-                f"--oracle-joints: unknown joint group {unknown[0]!r} "
-                f"(expected some of {', '.join(JOINT_GROUPS)})"
+                f"--oracle-joints and --oracle-pixels both name {both[0]!r}: a joint is put at "
+                "the truth or lifted from its true pixel, not both"
             )
 
     def __bool__(self) -> bool:
-        return self.labels or bool(self.joints)
+        return self.labels or bool(self.joints) or bool(self.pixels)
 
     @classmethod
-    def parse(cls, labels: bool, joints: str | None) -> Oracle:
-        """From the command line: ``joints`` a comma-separated list of group names, or None."""
-        return cls(labels, tuple(g.strip() for g in joints.split(",")) if joints else ())
+    def parse(cls, labels: bool, joints: str | None, pixels: str | None = None) -> Oracle:
+        """From the command line: ``joints`` and ``pixels`` comma-separated lists of group
+        names, or None."""
+
+        def groups(text: str | None) -> tuple[str, ...]:
+            return tuple(g.strip() for g in text.split(",")) if text else ()
+
+        return cls(labels, groups(joints), groups(pixels))
 
     @property
     def options(self) -> str:
         """The command-line options that ask for it, as a user typed them."""
-        return " and ".join(
-            o for o, on in (("--oracle-labels", self.labels), ("--oracle-joints", self.joints)) if on
-        )
+        asked = {"labels": self.labels, "joints": self.joints, "pixels": self.pixels}
+        return " and ".join(f"--oracle-{o}" for o, on in asked.items() if on)
 
     def notes(self) -> list[str]:
         """What the report says it is."""
@@ -90,13 +111,32 @@ class Oracle:
                 f"the seen {', '.join(self.joints)} joints put at the truth's (--oracle-joints): "
                 "a diagnostic, not a result"
             )
+        if self.pixels:
+            out.append(
+                f"the seen {', '.join(self.pixels)} joints lifted from their true pixels "
+                "(--oracle-pixels): a diagnostic, not a result"
+            )
         return out
 
     def apply(
-        self, keypoints: F64, joints: F64, owner: list[int], truth: F64, skeletons: list[F64 | None]
+        self,
+        keypoints: F64,
+        joints: F64,
+        owner: list[int],
+        truth: F64,
+        skeletons: list[F64 | None],
+        frame: Frame | None = None,
+        config: TrackerConfig | None = None,
     ) -> None:
         """Puts, in place, one frame's recorded detections right as asked (``truth``: people x
-        pose; ``skeletons``: each person's skeleton at that time, None where absent)."""
+        pose; ``skeletons``: each person's skeleton at that time, None where absent; ``frame``:
+        the frame rendered again, with its depth image, which the pixels' oracle needs, and
+        ``config`` the depth lookup it lifts with)."""
+        if self.pixels:
+            if frame is None:
+                raise ValueError("--oracle-pixels needs each frame rendered again")
+            config = config or TrackerConfig()
+            lift_at_true_pixels(keypoints, joints, owner, skeletons, self.pixels, frame, config)
         if self.labels:
             put_labels_right(keypoints, joints, owner, truth)
         if self.joints:
@@ -165,3 +205,55 @@ def put_joints_at_truth(
                 joints[d, c] = skeleton[j]
                 moved += 1
     return moved
+
+
+def lift_at_true_pixels(
+    keypoints: F64,
+    joints: F64,
+    owner: list[int],
+    skeletons: list[F64 | None],
+    groups: tuple[str, ...],
+    frame: Frame,
+    config: TrackerConfig,
+) -> int:
+    """Puts, in place, each seen (finite) joint of the :data:`JOINT_GROUPS` ``groups`` of every
+    detection owned by a person at its true pixel (the skeleton's joint projected into
+    ``frame``'s image; the keypoint's score kept) and lifts it there with ``config``'s depth
+    lookup from ``frame``'s depth image, as :meth:`Tracker.step` lifts keypoints: NaN where the
+    pixel reads no depth or lies off the image, or the joint is behind the camera. Returns how
+    many joints were lifted again."""
+    assert frame.camera is not None and frame.depth is not None
+    mapping = {c: j for g in groups for c, j in JOINT_GROUPS[g].items()}
+    to_camera = np.linalg.inv(np.asarray(frame.camera.camera_to_world))
+    k = frame.camera.intrinsics
+    asked = np.zeros((len(owner), len(coco.KEYPOINTS), 3))
+    chosen: list[tuple[int, int]] = []
+    for d, person in enumerate(owner):
+        skeleton = skeletons[person] if person >= 0 else None
+        if skeleton is None:
+            continue
+        for c, j in mapping.items():
+            if np.isfinite(joints[d, c]).all():
+                optical = to_camera[:3, :3] @ skeleton[j] + to_camera[:3, 3]
+                chosen.append((d, c))
+                if optical[2] > 0.0:
+                    asked[d, c, :2] = k.project(optical)
+                    asked[d, c, 2] = 1.0
+    if not chosen:
+        return 0
+    # A tracker of its own lifts them: the core's lookup and deprojection, none of its tracks.
+    lifter = Tracker(config)
+    lifter.step(
+        frame.time,
+        asked,
+        frame.depth,
+        (k.fx, k.fy, k.cx, k.cy),
+        k.coefficients,
+        frame.camera.camera_to_world,
+        None,
+    )
+    lifted = lifter.lifted
+    for d, c in chosen:
+        keypoints[d, c, :2] = asked[d, c, :2]
+        joints[d, c] = lifted[d, c] if asked[d, c, 2] > 0 else np.nan
+    return len(chosen)

@@ -104,6 +104,8 @@ def _replay(scene: RenderedScene, pipeline: Pipeline, path: Path, oracle: Oracle
     with np.load(path) as archive:
         data = {name: archive[name] for name in archive.files}
     ends = np.cumsum(data["people"])
+    # The pixels' oracle lifts from the depth images: the frames are rendered again.
+    rendered = iter(scene) if oracle.pixels else None
     for k, t in enumerate(scene.spec.times):
         rows = slice(ends[k] - data["people"][k], ends[k])
         keypoints, joints = data["keypoints"][rows], data["joints"][rows]
@@ -112,7 +114,8 @@ def _replay(scene: RenderedScene, pipeline: Pipeline, path: Path, oracle: Oracle
         if oracle:
             keypoints, joints = keypoints.copy(), joints.copy()  # put right in place
             skeletons = [scene.joints_at(i, float(t)) for i in range(len(scene.clips))]
-            oracle.apply(keypoints, joints, owner, truth, skeletons)
+            again = next(rendered) if rendered is not None else None
+            oracle.apply(keypoints, joints, owner, truth, skeletons, again, pipeline.tracker_config)
         detections = Detections(keypoints, np.zeros((len(keypoints), 4)), np.ones(len(keypoints)))
         frame = Frame(k, float(t), np.zeros((1, 1, 3), np.uint8), None, scene.camera)
         frame.extra["truth"] = truth
