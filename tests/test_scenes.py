@@ -525,7 +525,7 @@ def test_two_runs_compare_by_the_same_draws_of_their_scenes(tmp_path, capsys):
     pooled = ["eval", "compare", str(tmp_path / "a"), str(tmp_path / "b"), "--also"]
     assert main([*pooled, str(tmp_path / "e"), str(tmp_path / "e")]) == 0
     out = capsys.readouterr().out
-    assert "| 40 scenes |" in out and "| flips (%) | " in out and "| +5.00 |" in out
+    assert "| 40 scenes with someone in view |" in out and "| flips (%) | " in out and "| +5.00 |" in out
     assert main([*pooled, str(tmp_path / "a"), str(tmp_path / "b")]) == 2
     assert "share scenes" in capsys.readouterr().err
     # Runs of other frames, or a folder without a record, are one line and exit code 2.

@@ -229,7 +229,9 @@ def forecasts_markdown(cells: list[dict[str, Any]]) -> str:
 
 def markdown(result: dict[str, Any]) -> str:
     """The comparison as a Markdown table, with a line saying what it means for the flips."""
-    head = f"| {result['scenes']} scenes | before | after | change | its {100 * INTERVAL:g} % interval |"
+    # The records hold only the scenes with someone in view; a split's others are not counted.
+    scenes = f"{result['scenes']} scenes with someone in view"
+    head = f"| {scenes} | before | after | change | its {100 * INTERVAL:g} % interval |"
     lines = [head, "|---|---:|---:|---:|---:|"]
     rows = (
         ("flips", "flips (%)", 100.0),
