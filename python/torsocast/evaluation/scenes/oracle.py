@@ -28,6 +28,7 @@ speed of a live run, not of a replay.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -187,23 +188,31 @@ def put_labels_right(
     return changed
 
 
-def put_joints_at_truth(
+def seen_true_joints(
     joints: F64, owner: list[int], skeletons: list[F64 | None], groups: tuple[str, ...]
-) -> int:
-    """Moves, in place, each seen (finite) joint of the :data:`JOINT_GROUPS` ``groups`` of every
-    detection owned by a person (``owner``: person index or -1) to that person's true joint
+) -> Iterator[tuple[int, int, F64]]:
+    """Each seen (finite) joint of the :data:`JOINT_GROUPS` ``groups`` of every detection owned
+    by a person (``owner``: person index or -1) with that person's true joint
     (``skeletons[person]``: the CMU skeleton, ``(38, 3)``; None: the person is absent, nothing
-    moved); returns how many joints moved."""
+    given): ``(detection, keypoint, true position)``."""
     mapping = {c: j for g in groups for c, j in JOINT_GROUPS[g].items()}
-    moved = 0
     for d, person in enumerate(owner):
         skeleton = skeletons[person] if person >= 0 else None
         if skeleton is None:
             continue
         for c, j in mapping.items():
             if np.isfinite(joints[d, c]).all():
-                joints[d, c] = skeleton[j]
-                moved += 1
+                yield d, c, skeleton[j]
+
+
+def put_joints_at_truth(
+    joints: F64, owner: list[int], skeletons: list[F64 | None], groups: tuple[str, ...]
+) -> int:
+    """Moves, in place, each of :func:`seen_true_joints` to the truth; returns how many moved."""
+    moved = 0
+    for d, c, truth in seen_true_joints(joints, owner, skeletons, groups):
+        joints[d, c] = truth
+        moved += 1
     return moved
 
 
@@ -216,29 +225,22 @@ def lift_at_true_pixels(
     frame: Frame,
     config: TrackerConfig,
 ) -> int:
-    """Puts, in place, each seen (finite) joint of the :data:`JOINT_GROUPS` ``groups`` of every
-    detection owned by a person at its true pixel (the skeleton's joint projected into
-    ``frame``'s image; the keypoint's score kept) and lifts it there with ``config``'s depth
-    lookup from ``frame``'s depth image, as :meth:`Tracker.step` lifts keypoints: NaN where the
-    pixel reads no depth or lies off the image, or the joint is behind the camera. Returns how
-    many joints were lifted again."""
+    """Puts, in place, each of :func:`seen_true_joints` at its true pixel (the true joint
+    projected into ``frame``'s image; the keypoint's score kept) and lifts it there with
+    ``config``'s depth lookup from ``frame``'s depth image, as :meth:`Tracker.step` lifts
+    keypoints: NaN where the pixel reads no depth or lies off the image, or the joint is behind
+    the camera. Returns how many joints were lifted again."""
     assert frame.camera is not None and frame.depth is not None
-    mapping = {c: j for g in groups for c, j in JOINT_GROUPS[g].items()}
     to_camera = np.linalg.inv(np.asarray(frame.camera.camera_to_world))
     k = frame.camera.intrinsics
     asked = np.zeros((len(owner), len(coco.KEYPOINTS), 3))
     chosen: list[tuple[int, int]] = []
-    for d, person in enumerate(owner):
-        skeleton = skeletons[person] if person >= 0 else None
-        if skeleton is None:
-            continue
-        for c, j in mapping.items():
-            if np.isfinite(joints[d, c]).all():
-                optical = to_camera[:3, :3] @ skeleton[j] + to_camera[:3, 3]
-                chosen.append((d, c))
-                if optical[2] > 0.0:
-                    asked[d, c, :2] = k.project(optical)
-                    asked[d, c, 2] = 1.0
+    for d, c, truth in seen_true_joints(joints, owner, skeletons, groups):
+        optical = to_camera[:3, :3] @ truth + to_camera[:3, 3]
+        chosen.append((d, c))
+        if optical[2] > 0.0:
+            asked[d, c, :2] = k.project(optical)
+            asked[d, c, 2] = 1.0
     if not chosen:
         return 0
     # A tracker of its own lifts them: the core's lookup and deprojection, none of its tracks.
