@@ -517,8 +517,14 @@ def test_two_runs_compare_by_the_same_draws_of_their_scenes(tmp_path, capsys):
     assert re.search(r"\| flips: side lost \(% of estimates\) \| [0-9.]+ \| [0-9.]+ \| \+10\.00 \|", out)
     assert "| flips: bad plane (% of estimates) | 0.00 | 0.00 | +0.00 | +0.00 to +0.00 |" in out
     assert "larger than the draw of scenes explains" in out
+    # One more flip for each of the twenty people: the five named first, each with its count.
+    counts = re.search(r"Flipped estimates: (\d+) -> (\d+); changed most for (.*)\.", out)
+    assert counts and int(counts[2]) - int(counts[1]) == 20
+    named = re.findall(r"(\S+) actor 0 \((\d+) -> (\d+) of 10\)", counts[3])
+    assert len(named) == 5 and all(int(b) == base[int(s[-2:])] and int(a) == int(b) + 1 for s, b, a in named)
     assert main(["eval", "compare", str(tmp_path / "a"), str(tmp_path / "a")]) == 0
-    assert "+0.00 to +0.00" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "+0.00 to +0.00" in out and "changed most" not in out
     # A second draw of other scenes where the change flips nothing more: pooled, 40 scenes and
     # half the change; a pair sharing scenes with the first is refused.
     write(tmp_path / "e", base, draw="t")

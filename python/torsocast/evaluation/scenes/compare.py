@@ -131,6 +131,8 @@ def compare(before: Columns, after: Columns) -> dict[str, Any]:
                 rates.append(float(mine.mean()) if len(mine) else float("nan"))
                 draws.append(scene_draws(index[estimated], len(names), mine))
             record(f"flips_{source}", rates, draws)
+    out["flipped"] = [int(flipped.sum()) for _, _, flipped in runs]
+    out["people"] = changed_people(before, runs[0][1], runs[0][2], runs[1][2])
     for name, q in (("azimuth_median", 50.0), ("azimuth_p90", 90.0)):
         values, draws = [], []
         for cols, estimated, _ in runs:
@@ -139,6 +141,32 @@ def compare(before: Columns, after: Columns) -> dict[str, Any]:
             draws.append(scene_percentile_draws(index[estimated], len(names), error, q))
         record(name, values, draws)
     return out
+
+
+def changed_people(
+    cols: Columns, estimated: np.ndarray, before: np.ndarray, after: np.ndarray, most: int = 5
+) -> list[dict[str, Any]]:
+    """The people (scene and actor of the records ``cols``) whose count of flipped estimates
+    changed most from ``before`` to ``after`` (per record: flipped or not), up to ``most`` of
+    them, largest change first, each with its estimates in the first run: a change that moves
+    the split's flips by a few tenths of a point may be one person's."""
+    people, index = np.unique(
+        np.char.add(np.char.add(cols["scene"], " actor "), cols["actor"]), return_inverse=True
+    )
+    count = [
+        np.bincount(index, weights=w.astype(float), minlength=len(people)) for w in (estimated, before, after)
+    ]
+    change = count[2] - count[1]
+    order = [i for i in np.argsort(-np.abs(change), kind="stable") if change[i] != 0][:most]
+    return [
+        {
+            "person": str(people[i]),
+            "estimates": int(count[0][i]),
+            "before": int(count[1][i]),
+            "after": int(count[2][i]),
+        }
+        for i in order
+    ]
 
 
 def compare_forecasts(before: Columns, after: Columns, scenes: np.ndarray) -> list[dict[str, Any]]:
@@ -253,4 +281,14 @@ def markdown(result: dict[str, Any]) -> str:
         if r["low"] > 0 or r["high"] < 0
         else "the change in flips is within what the draw of scenes explains"
     )
-    return "\n".join(lines) + f"\n\n{verdict}."
+    text = "\n".join(lines) + f"\n\n{verdict}."
+    if "flipped" in result:
+        before, after = result["flipped"]
+        text += f"\n\nFlipped estimates: {before} -> {after}"
+        if result["people"]:
+            most = ", ".join(
+                f"{p['person']} ({p['before']} -> {p['after']} of {p['estimates']})" for p in result["people"]
+            )
+            text += f"; changed most for {most}"
+        text += "."
+    return text
