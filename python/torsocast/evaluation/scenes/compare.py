@@ -99,8 +99,9 @@ def compare(before: Columns, after: Columns) -> dict[str, Any]:
     """Per measure, both runs' values, their difference and its paired interval: the flip rate
     over the estimates, over the headings each run calls confident (where both recorded it),
     the share of the estimates flipped from each of :data:`~.score.FLIP_SOURCES` (where both
-    recorded them), and the azimuth error's median and 90th percentile (degrees). Refuses runs
-    of different person-frames."""
+    recorded them), and the azimuth error's median and 90th percentile (degrees); the count of
+    flipped estimates in each run (``flipped``) and the people whose count changed most
+    (``people``, :func:`changed_people`). Refuses runs of different person-frames."""
     for key in KEYS:
         if len(before[key]) != len(after[key]) or (before[key] != after[key]).any():
             raise ValueError(f"the runs are of different scenes or frames (their {key!r} columns differ)")
@@ -256,7 +257,8 @@ def forecasts_markdown(cells: list[dict[str, Any]]) -> str:
 
 
 def markdown(result: dict[str, Any]) -> str:
-    """The comparison as a Markdown table, with a line saying what it means for the flips."""
+    """The comparison as a Markdown table, with a line saying what it means for the flips and
+    one naming the people whose flips changed most."""
     # The records hold only the scenes with someone in view; a split's others are not counted.
     scenes = f"{result['scenes']} scenes with someone in view"
     head = f"| {scenes} | before | after | change | its {100 * INTERVAL:g} % interval |"
@@ -281,14 +283,9 @@ def markdown(result: dict[str, Any]) -> str:
         if r["low"] > 0 or r["high"] < 0
         else "the change in flips is within what the draw of scenes explains"
     )
-    text = "\n".join(lines) + f"\n\n{verdict}."
-    if "flipped" in result:
-        before, after = result["flipped"]
-        text += f"\n\nFlipped estimates: {before} -> {after}"
-        if result["people"]:
-            most = ", ".join(
-                f"{p['person']} ({p['before']} -> {p['after']} of {p['estimates']})" for p in result["people"]
-            )
-            text += f"; changed most for {most}"
-        text += "."
-    return text
+    before, after = result["flipped"]
+    people = ", ".join(
+        f"{p['person']} ({p['before']} -> {p['after']} of {p['estimates']})" for p in result["people"]
+    )
+    most = f"; changed most for {people}" if people else ""
+    return "\n".join(lines) + f"\n\n{verdict}.\n\nFlipped estimates: {before} -> {after}{most}."
