@@ -413,7 +413,8 @@ def main(argv: list[str] | None = None) -> int:
         metavar="GROUPS",
         help="replay the --cache with the seen joints of GROUPS put at their true pixels and "
         "lifted there from the depth image rendered again: the flips a perfect 2D model would "
-        "leave (a diagnostic, not a result; as slow as a live run)",
+        "leave (a diagnostic, not a result; every frame is rendered again, so it takes minutes "
+        "where a replay takes seconds)",
     )
     sc.set_defaults(run=_eval_scenes)
     cp = ev_sub.add_parser(

@@ -22,8 +22,8 @@ Each seen joint of the named groups has its keypoint put at the true joint's pix
 projected into the image) and is lifted again there, by the core's own depth lookup, from the
 frame's depth image rendered again: the depth read at a joint's true pixel is whatever surface
 shows there (a thigh in front of a hip, the near side of the body in profile). The flips left
-are the depth's and the rules', not the keypoints'. It renders every frame, so it runs at the
-speed of a live run, not of a replay.
+are the depth's and the rules', not the keypoints'. It renders every frame again, so it takes
+minutes where a replay takes seconds (the model is not run).
 """
 
 from __future__ import annotations
