@@ -52,6 +52,11 @@ def test_level_camera_maps_optical_axes_to_rep103():
     down = Camera(Intrinsics(500, 500, 320, 240), level_camera(1.0, pitch=np.radians(30)))
     ahead = down.to_world(np.array([0.0, 0.0, 2.0]))
     assert ahead == pytest.approx([2 * np.cos(np.radians(30)), 0.0, 1.0 - 2 * np.sin(np.radians(30))])
+    # And back: the world point 2 m ahead, on the tilted optical axis.
+    assert down.to_optical(ahead) == pytest.approx([0.0, 0.0, 2.0])
+    assert cam.to_optical(np.array([[2.0, 0.0, 1.2], [0.0, -1.0, 1.2]])) == pytest.approx(
+        np.array([[0.0, 0.0, 2.0], [1.0, 0.0, 0.0]])
+    )
     with pytest.raises(ValueError, match="rotation"):
         Camera(Intrinsics(500, 500, 320, 240), np.diag([1.0, 1.0, -1.0, 1.0]))
 

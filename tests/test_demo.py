@@ -131,11 +131,10 @@ def test_the_scene_source_renders_the_walker_where_the_truth_is(walk):
     assert len(frames) == len(source) == 30 and frames[1].time == pytest.approx(0.1)
     camera = source.camera
     assert camera is not None
-    world_to_camera = np.linalg.inv(camera.camera_to_world)
     for frame in frames[::7]:
         assert frame.depth is not None
         centre = frame.extra["truth"][:3]
-        optical = world_to_camera[:3, :3] @ centre + world_to_camera[:3, 3]
+        optical = camera.to_optical(centre)
         u, v = np.round(camera.intrinsics.project(optical)).astype(int)
         # The chest's surface, a torso's half-depth (under 0.2 m) in front of the plane's centre.
         assert 0.0 < optical[2] - frame.depth[v, u] < 0.2

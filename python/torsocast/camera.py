@@ -117,6 +117,11 @@ class Camera:
         t = np.asarray(self.camera_to_world)
         return points @ t[:3, :3].T + t[:3, 3]
 
+    def to_optical(self, points: F64) -> F64:
+        """World points ``(..., 3)`` into the optical frame (the inverse of :meth:`to_world`)."""
+        t = np.linalg.inv(np.asarray(self.camera_to_world))
+        return points @ t[:3, :3].T + t[:3, 3]  # type: ignore[no-any-return]
+
 
 def level_camera(height: float = 0.0, pitch: float = 0.0) -> F64:
     """``camera_to_world`` of a camera ``height`` m above the world origin, looking along world +x,

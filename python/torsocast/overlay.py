@@ -37,11 +37,9 @@ def _heading(azimuth: float, elevation: float) -> np.ndarray:
 
 def _projector(camera):  # type: ignore[no-untyped-def]
     """World point -> pixel of ``camera``."""
-    world_to_camera = np.linalg.inv(np.asarray(camera.camera_to_world))
 
     def to_pixel(p: np.ndarray) -> tuple[float, float]:
-        q = world_to_camera[:3, :3] @ p + world_to_camera[:3, 3]
-        return tuple(camera.intrinsics.project(q))  # type: ignore[return-value]
+        return tuple(camera.intrinsics.project(camera.to_optical(p)))  # type: ignore[return-value]
 
     return to_pixel
 

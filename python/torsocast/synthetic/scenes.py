@@ -170,9 +170,8 @@ class RenderedScene:
         out = np.zeros(len(self.clips), dtype=bool)
         labels = frame.extra["labels"]
         h, w = labels.shape
-        to_camera = np.linalg.inv(np.asarray(self.camera.camera_to_world))
         for joints, i in zip(frame.extra["joints"], frame.extra["present"]):
-            optical = joints[list(cmu.TORSO)] @ to_camera[:3, :3].T + to_camera[:3, 3]
+            optical = self.camera.to_optical(joints[list(cmu.TORSO)])
             ahead = optical[:, 2] > 0.1
             uv = self.camera.intrinsics.project(np.where(ahead[:, None], optical, 1.0))
             u, v = np.rint(uv).astype(int).T

@@ -231,12 +231,11 @@ def lift_at_true_pixels(
     keypoints: NaN where the pixel reads no depth or lies off the image, or the joint is behind
     the camera. Returns how many joints were lifted again."""
     assert frame.camera is not None and frame.depth is not None
-    to_camera = np.linalg.inv(np.asarray(frame.camera.camera_to_world))
     k = frame.camera.intrinsics
     asked = np.zeros((len(owner), len(coco.KEYPOINTS), 3))
     chosen: list[tuple[int, int]] = []
     for d, c, truth in seen_true_joints(joints, owner, skeletons, groups):
-        optical = to_camera[:3, :3] @ truth + to_camera[:3, 3]
+        optical = frame.camera.to_optical(truth)
         chosen.append((d, c))
         if optical[2] > 0.0:
             asked[d, c, :2] = k.project(optical)
