@@ -131,12 +131,11 @@ class Oracle:
     ) -> None:
         """Puts, in place, one frame's recorded detections right as asked (``truth``: people x
         pose; ``skeletons``: each person's skeleton at that time, None where absent; ``frame``:
-        the frame rendered again, with its depth image, which the pixels' oracle needs, and
-        ``config`` the depth lookup it lifts with)."""
+        the frame rendered again, with its depth image, and ``config`` the pipeline's, whose
+        depth lookup lifts: both needed by the pixels' oracle only)."""
         if self.pixels:
-            if frame is None:
-                raise ValueError("--oracle-pixels needs each frame rendered again")
-            config = config or TrackerConfig()
+            if frame is None or config is None:
+                raise ValueError("--oracle-pixels needs each frame rendered again and the pipeline's config")
             lift_at_true_pixels(keypoints, joints, owner, skeletons, self.pixels, frame, config)
         if self.labels:
             put_labels_right(keypoints, joints, owner, truth)
