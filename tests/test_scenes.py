@@ -105,6 +105,11 @@ def test_an_actor_stands_where_its_placement_puts_it(standing):
     # Human-sized: the torso centre about a metre up, upright.
     assert 0.9 < truth[2] < 1.3 and abs(truth[4] - np.pi / 2) < np.radians(15)
     assert np.isnan(scene.truth_at(0, 5.0)).all()  # after the clip: not in the scene
+    # A person the scene does not have is refused, not read from the end of the list.
+    for actor in (-1, 1):
+        for ask in (scene.truth_at, scene.joints_at, lambda a, t: scene.category(a)):
+            with pytest.raises(IndexError, match=f"no actor {actor}"):
+                ask(actor, 0.5)
     # Seen from the camera at the origin: the direction to it from the torso, against the heading.
     to_camera = np.arctan2(-truth[1], -truth[0])
     assert view_angle(truth, np.zeros(2)) == pytest.approx(np.degrees(wrap_angle(np.pi / 2 - to_camera)))

@@ -125,15 +125,23 @@ class RenderedScene:
     def __len__(self) -> int:
         return len(self.spec.times)
 
+    def _clip(self, actor: int) -> Motion:
+        """The clip of ``actor``; an index out of range (a negative one too, which Python would
+        read from the end: another person's truth) is refused."""
+        if not 0 <= actor < len(self.clips):
+            raise IndexError(f"scene {self.name}: no actor {actor} (it has {len(self.clips)})")
+        return self.clips[actor]
+
     def sample(self, actor: int, t: float | F64) -> npt.NDArray[np.intp]:
         """The clip sample actor ``actor`` shows at scene time ``t``; -1 where it is not there."""
-        clip = self.clips[actor]
+        clip = self._clip(actor)
         k = np.rint((np.asarray(t) + self.spec.actors[actor].start) * clip.rate_hz).astype(np.intp)
         return np.where((k >= 0) & (k < len(clip.joints)), k, -1)
 
     def category(self, actor: int) -> str:
         """The motion category of ``actor``: its clip's, or :data:`TURNING`."""
-        return TURNING if self.spec.actors[actor].turn else self.clips[actor].category
+        clip = self._clip(actor)
+        return TURNING if self.spec.actors[actor].turn else clip.category
 
     def truth_at(self, actor: int, t: float | F64) -> F64:
         """True torso pose(s) of ``actor`` at scene time(s) ``t``: ``(..., 5)``, NaN where absent."""
