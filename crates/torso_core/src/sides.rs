@@ -100,9 +100,10 @@ pub struct FacingConfig {
     /// Weight of the nose cue, relative to the labels' (1 per 0.04 s of agreement).
     pub face_weight: f64,
     /// Weight of the bent-knees cue, relative to the labels'. The knees are right in about as
-    /// many of their votes as the labels, but not with them: a knee bent forwards is read where
-    /// it stands, whatever the detector calls it. Set on three draws of the scenes benchmark's
-    /// development split (docs/benchmark.md, "the knees' weight, on a third draw").
+    /// many of their votes as the labels, and a knee bent forwards is read where it stands,
+    /// whatever the detector calls it, so a frame's knees outvote labels it has exchanged. Set
+    /// on three draws of the scenes benchmark's development split (docs/benchmark.md, "the
+    /// knees' weight, on a third draw").
     pub knee_weight: f64,
     /// Weight of the walking-direction cue, relative to the labels'.
     pub motion_weight: f64,
