@@ -164,12 +164,14 @@ def _eval_scenes(args: argparse.Namespace) -> int:
         print(f"torsocast eval scenes: {e}", file=sys.stderr)
         return 2
     cache = Path(args.cache) if args.cache else None
+    draw = not args.no_figures and _can_draw()
     try:
-        bench = evaluate(catalogue, models, args.seed, args.quick, size, cache=cache, oracle=oracle)
+        bench = evaluate(
+            catalogue, models, args.seed, args.quick, size, cache=cache, oracle=oracle, picture=draw
+        )
     except ValueError as e:
         print(f"torsocast eval scenes: {e}", file=sys.stderr)
         return 2
-    draw = _can_draw()
     text, written = report.write(bench, args.out, draw=draw)
     print(text)
     print(f"wrote {', '.join(str(p) for p in written)}", file=sys.stderr)
@@ -394,6 +396,12 @@ def main(argv: list[str] | None = None) -> int:
     sc.add_argument(
         "--cache",
         help="keep each scene's detections here and replay them on later runs (for changes after the model)",
+    )
+    sc.add_argument(
+        "--no-figures",
+        action="store_true",
+        help="write the report and records without the figures (a replay of a --cache then takes "
+        "seconds, not a minute: no frame is rendered for the picture)",
     )
     sc.add_argument(
         "--oracle-labels",

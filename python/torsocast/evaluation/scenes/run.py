@@ -180,9 +180,12 @@ def evaluate(
     progress: bool = True,
     cache: Path | None = None,
     oracle: Oracle = NO_ORACLE,
+    picture: bool = True,
 ) -> Benchmark:
     """Draws the split's scenes for ``seed`` and runs them all (``cache`` and ``oracle``: see
-    :func:`run_scene`; an oracle needs every scene recorded, and says so before any work)."""
+    :func:`run_scene`; an oracle needs every scene recorded, and says so before any work).
+    Without ``picture``, a run whose every scene was replayed keeps no frame for the report's
+    figure (it would render the most crowded scene again for it)."""
     size = size or (QUICK if quick else FULL)
     specs = [draw_scene(catalogue, i, seed, size) for i in range(size.scenes)]
     specs += [draw_scene(catalogue, size.scenes + i, seed, size, turning=True) for i in range(size.turning)]
@@ -223,7 +226,7 @@ def evaluate(
             bench.picture, best_count = best, len(best.forecasts)
         if bar:
             bar(f"{spec.name}: {len(spec.actors)} people, {frames} frames")
-    if bench.picture is None and specs:
+    if picture and bench.picture is None and specs:
         # Every scene was replayed (no images): render the most crowded one again for the figure.
         crowd = max(specs, key=lambda s: len(s.actors))
         model = models.for_scene(crowd)
