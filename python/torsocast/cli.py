@@ -400,8 +400,8 @@ def main(argv: list[str] | None = None) -> int:
     sc.add_argument(
         "--no-figures",
         action="store_true",
-        help="write the report and records without the figures (a replay of a --cache then takes "
-        "seconds, not a minute: no frame is rendered for the picture)",
+        help="write the report and records without the figures (a replay of a --cache then renders "
+        "no frame at all: the report's picture is the one frame a replay would render)",
     )
     sc.add_argument(
         "--oracle-labels",
