@@ -645,8 +645,13 @@ def test_a_replay_without_figures_writes_the_live_runs_records_and_renders_nothi
     args = ["eval", "scenes", "--quick", "--split", "report", "--scenes", "1", *data]
     assert main([*args, "--out", str(tmp_path / "live")]) == 0
     assert list((tmp_path / "live" / "figures").glob("*.png"))
-    rendered = []
-    monkeypatch.setattr(run.RenderedScene, "__iter__", lambda scene: rendered.append(scene) or iter(()))
+    rendered: list[Any] = []
+
+    def no_frames(scene):
+        rendered.append(scene)
+        return iter(())
+
+    monkeypatch.setattr(run.RenderedScene, "__iter__", no_frames)
     assert main([*args, "--out", str(tmp_path / "replay"), "--no-figures"]) == 0
     assert rendered == [] and not (tmp_path / "replay" / "figures").exists()
     for name in ("recovery.csv", "forecasts.csv", "identity.csv"):
