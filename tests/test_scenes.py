@@ -638,8 +638,6 @@ def test_a_replayed_scene_scores_as_the_live_one(tmp_path):
 def test_a_replay_without_figures_writes_the_live_runs_records_and_renders_nothing(tmp_path, monkeypatch):
     # One quick scene recorded live with its figures, then replayed with --no-figures: the same
     # records, no figure, and no frame rendered for the picture the figures would have drawn.
-    from torsocast.evaluation.scenes import run
-
     data = ["--cmu", str(shared_path("data", "cmu")), "--h36m", str(shared_path("data", "h36m"))]
     data += ["--yolo", str(shared_path("models", "yolo11n-pose.onnx")), "--cache", str(tmp_path / "cache")]
     args = ["eval", "scenes", "--quick", "--split", "report", "--scenes", "1", *data]
@@ -651,7 +649,7 @@ def test_a_replay_without_figures_writes_the_live_runs_records_and_renders_nothi
         rendered.append(scene)
         return iter(())
 
-    monkeypatch.setattr(run.RenderedScene, "__iter__", no_frames)
+    monkeypatch.setattr(RenderedScene, "__iter__", no_frames)
     assert main([*args, "--out", str(tmp_path / "replay"), "--no-figures"]) == 0
     assert rendered == [] and not (tmp_path / "replay" / "figures").exists()
     for name in ("recovery.csv", "forecasts.csv", "identity.csv"):
