@@ -18,7 +18,7 @@ from torsocast import PersonConfig, wrap_angle
 from torsocast.cli import main
 from torsocast.datasets import cmu
 from torsocast.evaluation.scenes.oracle import Oracle, lift_at_true_pixels, put_joints_at_truth
-from torsocast.evaluation.scenes.score import TrackSide, assign, flip_source, view_angle
+from torsocast.evaluation.scenes.score import TrackSide, assign, flip_source, tilt_angle, view_angle
 from torsocast.evaluation.scenes.tables import (
     age_bin,
     distance_bin,
@@ -29,6 +29,7 @@ from torsocast.evaluation.scenes.tables import (
     losses,
     scene_interval,
     scene_percentile_draws,
+    tilt_bin,
     view_bin,
 )
 from torsocast.keypoints import coco, open_model
@@ -176,7 +177,7 @@ def test_a_detection_is_the_person_most_of_its_keypoints_fall_on():
     assert assign(keypoints, labels, 0.3) == [0, -1, 1, -1]
 
 
-def test_view_distance_and_age_bins():
+def test_view_distance_age_and_tilt_bins():
     assert list(view_bin(np.array([0.0, 22.4, 22.5, 100.0, 170.0, -170.0, -157.0, -60.0]))) == [
         0,
         0,
@@ -202,6 +203,20 @@ def test_view_distance_and_age_bins():
         "2 s and more",
         "2 s and more",
     ]
+    assert list(tilt_bin(np.array([0.0, 14.9, 15.0, 45.0, 60.0, 90.0]))) == [
+        "under 15 deg",
+        "under 15 deg",
+        "15-30 deg",
+        "30-60 deg",
+        "60 deg and more",
+        "60 deg and more",
+    ]
+    # Upright whichever way the person faces; bent double or lying, 90 degrees either way.
+    upright, lying_face_up, bent_double = (
+        np.array([1.0, 2.0, 1.0, az, el]) for az, el in ((2.5, np.pi / 2), (0.3, 0.0), (-1.0, np.pi))
+    )
+    assert tilt_angle(upright) == pytest.approx(0.0)
+    assert tilt_angle(lying_face_up) == pytest.approx(90.0) == tilt_angle(bent_double)
 
 
 def test_a_flip_is_put_down_to_the_first_rule_that_explains_it():
@@ -729,6 +744,10 @@ def test_eval_scenes_quick_runs_and_its_numbers_come_back_for_the_seed(tmp_path,
         banded = [r["forecasts"] for r in by_age if r["horizon"] == row["horizon"]]
         assert len(banded) > 1 and sum(banded) == row["forecasts"]
     assert {r["group"] for r in tables["coverage"]["age"]} == {r["group"] for r in by_age}
+    # Every scored person-frame falls in one band of the true torso's tilt from upright.
+    by_tilt = tables["recovery"]["tilt"]
+    assert "By torso's tilt from upright" in text and by_tilt[0]["group"] == "under 15 deg"
+    assert sum(r["person_frames"] for r in by_tilt) == tables["recovery"]["all"][0]["person_frames"]
     # Nearly every forecast comes with an 80 % interval, and over all motions the truth falls in
     # it about that often (measured on this split: 99 % with one, 73.3 to 84.3 % inside per
     # component and horizon; by motion the report split's cells are in docs/benchmark.md). A

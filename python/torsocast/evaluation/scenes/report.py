@@ -28,6 +28,7 @@ AXIS_NAMES = {
     "category": "motion category",
     "fps": "frame rate",
     "age": "track's age with the person",
+    "tilt": "torso's tilt from upright",
 }
 
 
@@ -239,7 +240,9 @@ def markdown(bench: Benchmark, t: dict[str, Any], figures: list[str]) -> str:
         "tables 5.1 and 5.2 give the same quantities on mocap). Flips: share of estimates with an "
         f"azimuth error over {FLIP_DEG:g} degrees."
     )
-    for axis in ("all", "view", "distance", "people", "category", "fps"):
+    for axis in ("all", "view", "distance", "people", "category", "fps", "tilt"):
+        if axis not in t["recovery"]:
+            continue  # records from before the torso's tilt was kept
         lines += ["", f"### By {AXIS_NAMES[axis]}" if axis != "all" else "### All", ""]
         lines += _recovery_md(t["recovery"][axis], axis)
     lines += ["", "### Where the flips come from", "", *_flip_sources_md(t["flip_sources"])]

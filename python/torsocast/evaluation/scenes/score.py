@@ -103,6 +103,13 @@ def view_angle(truth: F64, camera_xy: F64) -> float:
     return float(np.degrees(wrap_angle(truth[3] - to_camera)))
 
 
+def tilt_angle(truth: F64) -> float:
+    """Degrees the true torso plane leans from upright (its normal's elevation from the
+    horizontal): 0 standing or sitting up straight, 90 bent double or lying down. A bent torso's
+    normal has a short horizontal part, whose azimuth a small error of the plane turns far."""
+    return float(abs(np.degrees(truth[4]) - 90.0))
+
+
 def pose_errors(estimate: F64, truth: F64) -> tuple[float, float, float]:
     """Centre distance (m), azimuth and elevation errors (rad) of a pose against the truth."""
     return (
@@ -148,6 +155,7 @@ class Scorer:
         table["category"].append(self.scene.category(actor))
         table["view"].append(view_angle(truth, self.camera_xy))
         table["distance"].append(float(np.linalg.norm(truth[:2] - self.camera_xy)))
+        table["tilt"].append(tilt_angle(truth))
 
     def __call__(
         self, t: float, result: FrameResult, owner: list[int], visible: npt.NDArray[np.bool_], truth: F64

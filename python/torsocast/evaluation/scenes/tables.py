@@ -1,5 +1,6 @@
 """The benchmark's numbers: its records grouped by condition (view, distance, number of people,
-motion category, frame rate) and reduced to the tables of the report."""
+motion category, frame rate; and the track's age and the torso's tilt) and reduced to the
+tables of the report."""
 
 from __future__ import annotations
 
@@ -24,6 +25,12 @@ CHECKED_AXES = ("category", "view")
 #: the scene, so no target's cell).
 AGE_EDGES = (0.5, 1.0, 2.0)
 AGE_LABELS = ("under 0.5 s", "0.5-1 s", "1-2 s", "2 s and more")
+#: Edges (degrees) of the bands of how far the true torso leans from upright (`tilt`) the
+#: records are also given by: the people who bend, crouch or lie are where the plane's azimuth
+#: is least well conditioned (a condition of the person's pose, not of the scene: no target's
+#: cell).
+TILT_EDGES = (15.0, 30.0, 60.0)
+TILT_LABELS = ("under 15 deg", "15-30 deg", "30-60 deg", "60 deg and more")
 STATS: dict[str, Callable[[np.ndarray], float]] = {
     "median": lambda v: float(np.median(v)),
     "mean": lambda v: float(np.mean(v)),
@@ -58,6 +65,11 @@ def age_bin(seconds: np.ndarray) -> np.ndarray:
     return np.asarray(AGE_LABELS, dtype=object)[bins]  # type: ignore[no-any-return]
 
 
+def tilt_bin(degrees: np.ndarray) -> np.ndarray:
+    bins = np.searchsorted(TILT_EDGES, degrees, side="right")
+    return np.asarray(TILT_LABELS, dtype=object)[bins]  # type: ignore[no-any-return]
+
+
 def condition(cols: Columns, axis: str) -> np.ndarray:
     if axis == "view":
         return view_bin(cols["view"])
@@ -65,6 +77,8 @@ def condition(cols: Columns, axis: str) -> np.ndarray:
         return distance_bin(cols["distance"])
     if axis == "age":
         return age_bin(cols["track_age"])
+    if axis == "tilt":
+        return tilt_bin(cols["tilt"])
     return cols[axis]
 
 
@@ -76,6 +90,8 @@ def _order(axis: str, values: np.ndarray) -> list[Any]:
         return [v for v in DISTANCE_LABELS if v in unique]
     if axis == "age":
         return [v for v in AGE_LABELS if v in unique]
+    if axis == "tilt":
+        return [v for v in TILT_LABELS if v in unique]
     return sorted(unique)
 
 
@@ -352,11 +368,16 @@ def checked_cells(forecast_rows: dict[str, list[dict[str, Any]]]) -> int:
 def tables(recovery: Columns, forecasts: Columns, identity: Columns) -> dict[str, Any]:
     """Every table of the report, by kind and by condition (None: all rows)."""
     axes: list[str | None] = [None, *AXES]
-    # Records written before forecasts carried the track's age have no age tables.
+    # Records written before forecasts carried the track's age, or the torso's tilt, have no
+    # tables by them.
     aged = ["age"] if "track_age" in forecasts else []
+    tilted = ["tilt"] if "tilt" in recovery else []
     out: dict[str, Any] = {
-        "recovery": {str(a or "all"): recovery_table(recovery, a) for a in axes},
-        "forecasts": {str(a or "all"): forecast_table(forecasts, a) for a in [*axes, *aged]},
+        "recovery": {str(a or "all"): recovery_table(recovery, a) for a in [*axes, *tilted]},
+        "forecasts": {
+            str(a or "all"): forecast_table(forecasts, a)
+            for a in [*axes, *aged, *(["tilt"] if "tilt" in forecasts else [])]
+        },
         "identity": {str(a or "all"): identity_table(identity, a) for a in (None, "people", "category")},
         "coverage": {
             str(a or "all"): coverage_table(forecasts, a) for a in (None, "category", "view", *aged)
