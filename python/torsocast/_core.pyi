@@ -510,8 +510,9 @@ class Observation:
     @property
     def heading_confident(self) -> bool:
         """A cue other than the detector's labels (the face, bent knees, the walking direction)
-        confirms the heading's side (more evidence than the labels alone can build), and the
-        heading lies within 45 degrees of the track's recent heading."""
+        confirms the heading's side (more evidence than the labels alone can build), the
+        heading lies within 45 degrees of the track's recent heading, and the torso leans no
+        more than 60 degrees from upright (a bent torso's azimuth is poorly conditioned)."""
     @property
     def heading_held(self) -> bool:
         """The frame's torso plane lay more than 45 degrees across the track's recent heading:

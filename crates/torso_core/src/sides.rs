@@ -31,7 +31,8 @@
 //! [`FacingConfig::memory`] (a second): the labels alone, however long they agree, build about a
 //! memory's worth of it; a heading with more than that has been confirmed recently by another
 //! cue, and is reported confident unless the frame's torso line lies far across the recent
-//! heading (a bad plane). The decision owns the side of the pose the track reports
+//! heading (a bad plane); the track also calls no heading confident whose torso leans far from
+//! upright ([`crate::person::MIN_CONFIDENT_UPRIGHTNESS`]). The decision owns the side of the pose the track reports
 //! ([`Facing::opposes`]), the plane fitted after the gate only its line; and where that line
 //! lies far across the recent heading, the pose reports the recent heading
 //! ([`Facing::across_recent`]).

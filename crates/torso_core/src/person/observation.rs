@@ -66,7 +66,9 @@ pub struct Observation {
     pub facing_evidence: f64,
     /// The heading's side is confirmed by a cue other than the detector's labels (more evidence
     /// than the labels alone can build) and it lies near the track's recent heading
-    /// ([`crate::sides::Decision::confident`]).
+    /// ([`crate::sides::Decision::confident`]), and the torso leans no further than 60 degrees
+    /// from upright ([`super::MIN_CONFIDENT_UPRIGHTNESS`]: a bent torso's azimuth is poorly
+    /// conditioned).
     pub heading_confident: bool,
     /// The frame's torso plane lay more than 45 degrees across the track's recent heading
     /// ([`crate::sides::Facing::across_recent`]): `pose` reports the recent heading instead of
