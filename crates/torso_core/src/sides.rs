@@ -32,9 +32,9 @@
 //! memory's worth of it; a heading with more than that has been confirmed recently by another
 //! cue, and is reported confident unless the frame's torso line lies far across the recent
 //! heading (a bad plane); the track also calls no heading confident whose torso leans far from
-//! upright ([`crate::person::MIN_CONFIDENT_UPRIGHTNESS`]). The decision owns the side of the pose the track reports
-//! ([`Facing::opposes`]), the plane fitted after the gate only its line; and where that line
-//! lies far across the recent heading, the pose reports the recent heading
+//! upright ([`crate::person::MIN_CONFIDENT_UPRIGHTNESS`]). The decision owns the side of the
+//! pose the track reports ([`Facing::opposes`]), the plane fitted after the gate only its line;
+//! and where that line lies far across the recent heading, the pose reports the recent heading
 //! ([`Facing::across_recent`]).
 
 use crate::coco::{self, Joints, N_JOINTS};
