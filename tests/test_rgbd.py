@@ -61,7 +61,8 @@ def test_a_steady_turn_is_forecast_not_held():
     # The turntable turns about 107 deg/s: holding the heading errs by about 43 degrees 0.4 s
     # ahead. Measured with the bundled MoveNet: a median error of 8.0 degrees over the 85 frames
     # with an estimate whose target instant is in the sequence on an AMD CPU without VNNI, 6.2
-    # on an Intel one with it (MoveNet's int8 kernels differ; issue target: under 10; 19.0
+    # over 84 on CPUs with it, an Intel and an AMD alike (MoveNet's int8 kernels differ; issue
+    # target: under 10; 19.0
     # before the steady-turn prior). The history's steady turn is continued from the track's
     # first second.
     pipeline = Pipeline(open_model(), (0.4,))
