@@ -519,12 +519,13 @@ def test_two_runs_compare_by_the_same_draws_of_their_scenes(tmp_path, capsys):
     def write(folder, flipped_per_scene, draw="s"):
         folder.mkdir()
         with (folder / "recovery.csv").open("w") as f:
-            f.write("scene,t,actor,estimated,confident,azimuth,flip_source\n")
+            f.write("scene,t,actor,estimated,confident,azimuth,flip_source,tilt\n")
             for scene in range(20):
                 for k in range(10):
                     azimuth = 3.0 if k < flipped_per_scene[scene] else 0.1
                     source = "side lost" if k < flipped_per_scene[scene] else ""
-                    f.write(f"{draw}{scene:02d},{k / 10},0,True,True,{azimuth},{source}\n")
+                    tilt = 45.0 if k == 9 else 5.0  # the last frame bent, never flipped
+                    f.write(f"{draw}{scene:02d},{k / 10},0,True,True,{azimuth},{source},{tilt}\n")
 
     rng = np.random.default_rng(1)
     base = rng.integers(0, 3, 20)
@@ -536,6 +537,8 @@ def test_two_runs_compare_by_the_same_draws_of_their_scenes(tmp_path, capsys):
     # Every extra flip is a lost side: that row moves with the flips, the others stay at zero.
     assert re.search(r"\| flips: side lost \(% of estimates\) \| [0-9.]+ \| [0-9.]+ \| \+10\.00 \|", out)
     assert "| flips: bad plane (% of estimates) | 0.00 | 0.00 | +0.00 | +0.00 to +0.00 |" in out
+    # The bent frames (the last of each scene's ten) flip in neither run.
+    assert "| flips where the torso leans 30 degrees or more (%) | 0.00 | 0.00 | +0.00 |" in out
     assert "larger than the draw of scenes explains" in out
     # One more flip for each of the twenty people: the five named first, each with its count.
     counts = re.search(r"Flipped estimates: (\d+) -> (\d+); changed most for (.*)\.", out)

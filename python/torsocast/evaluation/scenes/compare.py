@@ -24,6 +24,7 @@ from .tables import (
     CHECKED_AXES,
     INTERVAL,
     SCALE,
+    TILTED_DEG,
     Columns,
     central,
     groups,
@@ -98,6 +99,8 @@ def _flips(cols: Columns) -> tuple[np.ndarray, np.ndarray]:
 def compare(before: Columns, after: Columns) -> dict[str, Any]:
     """Per measure, both runs' values, their difference and its paired interval: the flip rate
     over the estimates, over the headings each run calls confident (where both recorded it),
+    over the estimates of a torso leaning :data:`~.tables.TILTED_DEG` or more from upright
+    (where both recorded the tilt),
     the share of the estimates flipped from each of :data:`~.score.FLIP_SOURCES` (where both
     recorded them), and the azimuth error's median and 90th percentile (degrees); the count of
     flipped estimates in each run (``flipped``) and the people whose count changed most
@@ -114,13 +117,15 @@ def compare(before: Columns, after: Columns) -> dict[str, Any]:
         out[name]["low"], out[name]["high"] = low, high
 
     runs = [(cols, *_flips(cols)) for cols in (before, after)]
-    measures: list[tuple[str, str | None]] = [("flips", None)]
+    measures: list[tuple[str, Any]] = [("flips", None)]
     if "confident" in before and "confident" in after:
-        measures.append(("flips_confident", "confident"))
+        measures.append(("flips_confident", lambda cols: cols["confident"] == "True"))
+    if "tilt" in before and "tilt" in after:
+        measures.append(("flips_tilted", lambda cols: cols["tilt"].astype(float) >= TILTED_DEG))
     for name, pick in measures:
         rates, draws = [], []
         for cols, estimated, flipped in runs:
-            counted = estimated if pick is None else estimated & (cols[pick] == "True")
+            counted = estimated if pick is None else estimated & pick(cols)
             rates.append(float(flipped[counted].mean()) if counted.any() else float("nan"))
             draws.append(scene_draws(index[counted], len(names), flipped[counted]))
         record(name, rates, draws)
@@ -266,6 +271,7 @@ def markdown(result: dict[str, Any]) -> str:
     rows = (
         ("flips", "flips (%)", 100.0),
         ("flips_confident", "flips where confident (%)", 100.0),
+        ("flips_tilted", f"flips where the torso leans {TILTED_DEG:g} degrees or more (%)", 100.0),
         *((f"flips_{s}", f"flips: {s} (% of estimates)", 100.0) for s in FLIP_SOURCES),
         ("azimuth_median", "azimuth error median (deg)", 1.0),
         ("azimuth_p90", "azimuth error 90th percentile (deg)", 1.0),

@@ -30,6 +30,8 @@ AGE_LABELS = ("under 0.5 s", "0.5-1 s", "1-2 s", "2 s and more")
 #: is least well conditioned (a condition of the person's pose, not of the scene: no target's
 #: cell).
 TILT_EDGES = (15.0, 30.0, 60.0)
+#: From this lean (degrees) on, a comparison gives the flips of a bent person's estimates apart.
+TILTED_DEG = TILT_EDGES[1]
 TILT_LABELS = ("under 15 deg", "15-30 deg", "30-60 deg", "60 deg and more")
 STATS: dict[str, Callable[[np.ndarray], float]] = {
     "median": lambda v: float(np.median(v)),
