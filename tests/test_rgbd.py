@@ -62,9 +62,8 @@ def test_a_steady_turn_is_forecast_not_held():
     # ahead. Measured with the bundled MoveNet: a median error of 8.0 degrees over the 85 frames
     # with an estimate whose target instant is in the sequence on an AMD CPU without VNNI, 6.2
     # over 84 on CPUs with it, an Intel and an AMD alike (MoveNet's int8 kernels differ; issue
-    # target: under 10; 19.0
-    # before the steady-turn prior). The history's steady turn is continued from the track's
-    # first second.
+    # target: under 10; 19.0 before the steady-turn prior). The history's steady turn is
+    # continued from the track's first second.
     pipeline = Pipeline(open_model(), (0.4,))
     frames = turntable_frames()
     times = np.array([f.time for f in frames])

@@ -14,6 +14,7 @@ from all of them.
 from __future__ import annotations
 
 import csv
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -117,7 +118,8 @@ def compare(before: Columns, after: Columns) -> dict[str, Any]:
         out[name]["low"], out[name]["high"] = low, high
 
     runs = [(cols, *_flips(cols)) for cols in (before, after)]
-    measures: list[tuple[str, Any]] = [("flips", None)]
+    # Each measure's name, and which estimates it counts (None: all of them).
+    measures: list[tuple[str, Callable[[Columns], np.ndarray] | None]] = [("flips", None)]
     if "confident" in before and "confident" in after:
         measures.append(("flips_confident", lambda cols: cols["confident"] == "True"))
     if "tilt" in before and "tilt" in after:

@@ -30,9 +30,9 @@ AGE_LABELS = ("under 0.5 s", "0.5-1 s", "1-2 s", "2 s and more")
 #: is least well conditioned (a condition of the person's pose, not of the scene: no target's
 #: cell).
 TILT_EDGES = (15.0, 30.0, 60.0)
+TILT_LABELS = ("under 15 deg", "15-30 deg", "30-60 deg", "60 deg and more")
 #: From this lean (degrees) on, a comparison gives the flips of a bent person's estimates apart.
 TILTED_DEG = TILT_EDGES[1]
-TILT_LABELS = ("under 15 deg", "15-30 deg", "30-60 deg", "60 deg and more")
 STATS: dict[str, Callable[[np.ndarray], float]] = {
     "median": lambda v: float(np.median(v)),
     "mean": lambda v: float(np.mean(v)),
@@ -373,12 +373,12 @@ def tables(recovery: Columns, forecasts: Columns, identity: Columns) -> dict[str
     # Records written before forecasts carried the track's age, or the torso's tilt, have no
     # tables by them.
     aged = ["age"] if "track_age" in forecasts else []
-    tilted = ["tilt"] if "tilt" in recovery else []
+    recovery_tilted = ["tilt"] if "tilt" in recovery else []
+    forecasts_tilted = ["tilt"] if "tilt" in forecasts else []
     out: dict[str, Any] = {
-        "recovery": {str(a or "all"): recovery_table(recovery, a) for a in [*axes, *tilted]},
+        "recovery": {str(a or "all"): recovery_table(recovery, a) for a in [*axes, *recovery_tilted]},
         "forecasts": {
-            str(a or "all"): forecast_table(forecasts, a)
-            for a in [*axes, *aged, *(["tilt"] if "tilt" in forecasts else [])]
+            str(a or "all"): forecast_table(forecasts, a) for a in [*axes, *aged, *forecasts_tilted]
         },
         "identity": {str(a or "all"): identity_table(identity, a) for a in (None, "people", "category")},
         "coverage": {
