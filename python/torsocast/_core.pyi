@@ -246,7 +246,8 @@ class Person:
     def intervals(self, horizons: _Floats) -> _F64 | None:
         """``(len(horizons), 5)`` half-widths of the central 80 % intervals around
         :meth:`forecast`: the spread of the track's recent forecast errors times the multiple of
-        it that covered 80 % of them, or before any forecast was checked what the line through
+        it that covered 80 % of them and the truth's margin over them (a constant per component
+        set on the scenes benchmark), or before any forecast was checked what the line through
         the history says; an angle's at most pi (every direction); None while the history is
         too short for a line."""
     def __len__(self) -> int: ...

@@ -320,7 +320,8 @@ impl Person {
 
     /// Half-widths of the central 80 % intervals around [`forecast`](Self::forecast)'s poses at
     /// `horizons`, per component, into `out`: the spread of the track's own recent forecast
-    /// errors, times the multiple of it that covered 80 % of them
+    /// errors, times the multiple of it that covered 80 % of them, times how much further the
+    /// truth lies than the track's own estimates
     /// ([`SelfCheck::half_width`](crate::selfcheck::SelfCheck::half_width)); before the track
     /// has checked a forecast, what the line through its history says a forecast may err
     /// ([`SelfCheck::unchecked_half_width`]); an angle's at most half a turn. `Ok(false)` (and

@@ -271,7 +271,7 @@ def markdown(bench: Benchmark, t: dict[str, Any], figures: list[str]) -> str:
     lines.append(
         "Share of forecasts whose true pose fell inside the 80 % interval the track gave with it "
         "(`half_width80`: the spread of the track's own recent forecast errors, times the multiple of "
-        "it that covered 80 % of them); the centre is the "
+        "it that covered 80 % of them and the truth's margin over them); the centre is the "
         "mean over its x, y and z intervals. A calibrated interval covers 80 %; given: the share of "
         "forecasts that came with one (a track gives none while its history is too short for a line)."
     )
