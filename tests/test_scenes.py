@@ -21,6 +21,8 @@ from torsocast.evaluation.scenes.oracle import Oracle, lift_at_true_pixels, put_
 from torsocast.evaluation.scenes.score import TrackSide, assign, flip_source, tilt_angle, view_angle
 from torsocast.evaluation.scenes.tables import (
     age_bin,
+    coverage_cells,
+    coverage_table,
     distance_bin,
     flip_evidence_table,
     flip_source_table,
@@ -570,6 +572,82 @@ def test_two_runs_compare_by_the_same_draws_of_their_scenes(tmp_path, capsys):
     assert "not a scenes benchmark record (no azimuth column)" in err
 
 
+def test_interval_cells_are_counted_against_the_calibrated_band():
+    # One category, two horizons, 20 forecasts each: at 0.4 s every component's truth falls
+    # inside 16 of its 20 intervals (80 %); at 1 s the centre's x inside 11 (55 %; y and z 16,
+    # so the centre's mean 71.7 %), the azimuth's 18 (90 %), the elevation's 15 (75 %: the band's
+    # edge counts as inside). Two of the six cells are outside the band, the furthest first.
+    n = 20
+    cols: dict[str, Any] = {
+        "category": np.array(["walking"] * 2 * n),
+        "horizon": np.repeat([0.4, 1.0], n),
+    }
+    inside = {"x": (16, 11), "y": (16, 16), "z": (16, 16), "azimuth": (16, 18), "elevation": (16, 15)}
+    for axis, counts in inside.items():
+        cols[f"half_width_{axis}"] = np.full(2 * n, 0.1)
+        cols[f"miss_{axis}"] = np.concatenate([np.where(np.arange(n) < k, 0.05, 0.2) for k in counts])
+    rows = coverage_table(cols, "category")
+    assert [r["horizon"] for r in rows] == [0.4, 1.0]
+    assert rows[1]["centre"] == pytest.approx((11 + 16 + 16) / 60)
+    cells = coverage_cells(rows)
+    assert (cells["inside"], cells["cells"]) == (4, 6)
+    assert [(c["horizon"], c["component"]) for c in cells["outside"]] == [(1.0, "azimuth"), (1.0, "centre")]
+    distances = [0, 0, 0, 0.8 - 43 / 60, 0.1, 0.05]
+    assert cells["distance"] == pytest.approx(np.mean(distances))
+    assert coverage_cells([])["cells"] == 0
+
+
+def test_two_runs_compare_their_interval_cells(tmp_path, capsys):
+    # Two draws of five scenes (each a pair of runs), one category, 0.4 s forecasts: the first
+    # run's intervals hold the truth in half the forecasts, the second run's (twice as wide) in
+    # all of them but those missed by more than that, 80 % per draw: its 3 cells per draw are
+    # calibrated, the first run's are not.
+    head = ["scene", "t", "actor", "estimated", "azimuth", "category", "view", "horizon"]
+    head += [f"{m}_{c}" for m in ("forecast", "hold") for c in ("centre", "azimuth", "elevation")]
+    head += [f"{m}_{a}" for a in ("x", "y", "z", "azimuth", "elevation") for m in ("miss", "half_width")]
+    for draw in ("p", "q"):
+        for name, width in (("a", 0.1), ("b", 0.2)):
+            folder = tmp_path / f"{name}{draw}"
+            folder.mkdir()
+            lines = [",".join(head)]
+            for scene in range(5):
+                for k in range(10):
+                    miss = (0.05, 0.15, 0.5)[0 if k < 5 else 1 if k < 8 else 2]
+                    numbers = [0.1, 0.1, 0.05, 0.1, 0.1, 0.05, *[miss, width] * 5]
+                    lines.append(
+                        ",".join(
+                            str(v)
+                            for v in [
+                                f"{draw}{scene}",
+                                k / 10,
+                                0,
+                                "True",
+                                0.1,
+                                "walking",
+                                10.0,
+                                0.4,
+                                *numbers,
+                            ]
+                        )
+                    )
+            for table in ("recovery", "forecasts"):
+                (folder / f"{table}.csv").write_text("\n".join(lines) + "\n")
+    args = ["eval", "compare", str(tmp_path / "ap"), str(tmp_path / "bp"), "--also"]
+    assert main([*args, str(tmp_path / "aq"), str(tmp_path / "bq")]) == 0
+    out = capsys.readouterr().out
+    assert "within 75 to 85 %: 0 of 6 (0 + 0) before, 6 of 6 (3 + 3) after" in out
+    assert "mean distance from 80 %: 30.00 -> 0.00 points" in out
+    assert "x 50.0 -> 80.0 %" in out and "elevation 50.0 -> 80.0 %" in out
+    # Records without intervals (written before they were recorded) compare without the lines.
+    for folder in ("bp", "bq"):
+        path = tmp_path / folder / "forecasts.csv"
+        path.write_text(
+            "\n".join(",".join(r.split(",")[: len(head) - 10]) for r in path.read_text().splitlines()) + "\n"
+        )
+    assert main([*args, str(tmp_path / "aq"), str(tmp_path / "bq")]) == 0
+    assert "Forecast interval cells" not in capsys.readouterr().out
+
+
 def recover(spec, motion, model):
     """Per frame after the first: (centre error along x, y, z in m; azimuth, elevation error in deg)."""
     scene = RenderedScene(spec, {motion.name: motion})
@@ -696,6 +774,10 @@ def test_eval_scenes_quick_runs_and_its_numbers_come_back_for_the_seed(tmp_path,
     head = text.split("## Headline")[0]
     assert "flip" in head and ("worse than holding" in head or "nowhere worse than holding" in head)
     assert len(report["losses_to_hold"]) == 0 or "**Forecast worse than holding" in head
+    # The intervals' calibration by motion category too, its cells counted in the report's data.
+    calibration = report["tables"]["coverage_cells"]
+    assert calibration["cells"] == 3 * len(report["tables"]["coverage"]["category"])
+    assert ("**Forecast intervals off calibration** in " in head) == bool(calibration["outside"])
     tables = report["tables"]
     assert tables["recovery"]["all"][0]["person_frames"] > 300
     # Front/back flips: measured 2.9 % of this split's estimates on 2026-12-04 (26.2 % before the

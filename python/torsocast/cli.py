@@ -181,7 +181,9 @@ def _eval_scenes(args: argparse.Namespace) -> int:
 def _eval_compare(args: argparse.Namespace) -> int:
     from .evaluation.scenes.compare import (
         compare,
+        compare_coverage,
         compare_forecasts,
+        coverage_markdown,
         forecasts_markdown,
         markdown,
         pool,
@@ -198,12 +200,15 @@ def _eval_compare(args: argparse.Namespace) -> int:
         whole = all(len(side) == len(pairs) for side in found)
         scenes = recovered[0]["scene"]
         cells = compare_forecasts(pool(found[0]), pool(found[1]), scenes) if whole else None
+        coverage = compare_coverage(list(zip(found[0], found[1]))) if whole else None
     except (OSError, ValueError, KeyError) as e:
         print(f"torsocast eval compare: {e}", file=sys.stderr)
         return 2
     print(markdown(result))
     if cells is not None:
         print("\n" + forecasts_markdown(cells))
+    if coverage is not None:
+        print("\n" + coverage_markdown(coverage))
     return 0
 
 
@@ -427,7 +432,7 @@ def main(argv: list[str] | None = None) -> int:
     sc.set_defaults(run=_eval_scenes)
     cp = ev_sub.add_parser(
         "compare",
-        help="two runs of eval scenes on the same scenes: changes in flips and forecast errors",
+        help="two runs of eval scenes on the same scenes: changes in flips, forecast errors and intervals",
     )
     cp.add_argument("before", help="the --out folder of the first run")
     cp.add_argument("after", help="the --out folder of the second run")

@@ -6,9 +6,10 @@ paired: drawing the scenes again with replacement, the same draw for both runs, 
 difference of their flip rates move? ``torsocast eval compare BEFORE AFTER`` reads the
 ``recovery.csv`` of each run's output folder, and where both have one their ``forecasts.csv``:
 the change of each motion category's and view bin's median forecast error per component and
-horizon, with its interval over the same draws. Pairs of runs on other scenes (another
-``--seed``) can be pooled with the first (``--also BEFORE AFTER``): the draws then take scenes
-from all of them.
+horizon, with its interval over the same draws, and where both recorded their forecast
+intervals, how many motion category cells each run's intervals hold calibrated. Pairs of runs on
+other scenes (another ``--seed``) can be pooled with the first (``--also BEFORE AFTER``): the
+draws then take scenes from all of them.
 """
 
 from __future__ import annotations
@@ -20,14 +21,17 @@ from typing import Any
 
 import numpy as np
 
-from .score import COMPONENTS, FLIP_DEG, FLIP_SOURCES
+from .score import COMPONENTS, FLIP_DEG, FLIP_SOURCES, POSE_COMPONENTS
 from .tables import (
+    CALIBRATED,
     CHECKED_AXES,
     INTERVAL,
     SCALE,
     TILTED_DEG,
     Columns,
     central,
+    coverage_cells,
+    coverage_table,
     groups,
     scene_draws,
     scene_percentile_draws,
@@ -78,16 +82,72 @@ FORECAST_COLUMNS = (
 )
 
 
+#: The columns of ``forecasts.csv`` that hold each forecast's miss and interval, where it has them.
+INTERVAL_COLUMNS = tuple(f"{m}_{a}" for a in POSE_COMPONENTS for m in ("miss", "half_width"))
+
+
 def read_forecasts(folder: str | Path) -> Columns | None:
-    """A run's ``forecasts.csv`` as columns (errors and horizons as numbers); None without one."""
+    """A run's ``forecasts.csv`` as columns (errors, horizons, misses and interval half-widths as
+    numbers; the last two where the record has them); None without one."""
     path = Path(folder) / "forecasts.csv"
     if not path.is_file():
         return None
     rows = _records(path, FORECAST_COLUMNS)
     cols = {k: np.array([r[k] for r in rows]) for k in FORECAST_COLUMNS[:2]}
-    for k in FORECAST_COLUMNS[2:]:
+    numbers = [*FORECAST_COLUMNS[2:], *(k for k in INTERVAL_COLUMNS if k in rows[0])]
+    for k in numbers:
         cols[k] = np.array([float(r[k]) for r in rows])
     return cols
+
+
+def compare_coverage(pairs: list[tuple[Columns, Columns]]) -> dict[str, Any] | None:
+    """Per run, its forecast intervals' calibration by motion category: the cells (category x
+    horizon x component) whose intervals held the truth within :data:`~.tables.CALIBRATED`, and
+    their mean distance from its middle (:func:`~.tables.coverage_cells`), each pair of runs
+    (one draw of scenes) counted on its own and the pairs' counts added; and the share of the
+    truth inside the intervals per pose component over every pair. None unless every run
+    recorded its intervals."""
+    if not all(k in cols for pair in pairs for cols in pair for k in INTERVAL_COLUMNS):
+        return None
+    out: dict[str, Any] = {}
+    for side, name in enumerate(("before", "after")):
+        counts = [coverage_cells(coverage_table(pair[side], "category")) for pair in pairs]
+        cells = sum(c["cells"] for c in counts)
+        distance = sum(c["distance"] * c["cells"] for c in counts) / cells if cells else float("nan")
+        inside = {}
+        for axis in POSE_COMPONENTS:
+            miss = np.concatenate([pair[side][f"miss_{axis}"] for pair in pairs])
+            width = np.concatenate([pair[side][f"half_width_{axis}"] for pair in pairs])
+            given = np.isfinite(width)
+            inside[axis] = float((miss[given] <= width[given]).mean()) if given.any() else float("nan")
+        out[name] = {
+            "inside": [c["inside"] for c in counts],
+            "cells": cells,
+            "distance": distance,
+            "components": inside,
+        }
+    return out
+
+
+def coverage_markdown(result: dict[str, Any]) -> str:
+    """The interval comparison in two lines: the calibrated cells and the share per component."""
+    low, high = (f"{100 * b:g}" for b in CALIBRATED)
+    counts = []
+    for name in ("before", "after"):
+        r = result[name]
+        each = f" ({' + '.join(str(n) for n in r['inside'])})" if len(r["inside"]) > 1 else ""
+        counts.append(f"{sum(r['inside'])} of {r['cells']}{each}")
+    distances = " -> ".join(f"{100 * result[n]['distance']:.2f}" for n in ("before", "after"))
+    shares = "; ".join(
+        f"{axis} {100 * result['before']['components'][axis]:.1f} -> "
+        f"{100 * result['after']['components'][axis]:.1f} %"
+        for axis in POSE_COMPONENTS
+    )
+    return (
+        f"Forecast interval cells (motion category x horizon x component) within {low} to {high} %: "
+        f"{counts[0]} before, {counts[1]} after; mean distance from 80 %: {distances} points.\n"
+        f"The truth inside the 80 % intervals: {shares}."
+    )
 
 
 def _flips(cols: Columns) -> tuple[np.ndarray, np.ndarray]:

@@ -12,7 +12,7 @@ import numpy as np
 
 from .run import Benchmark
 from .score import BAD_LINE_DEG, COMPONENTS, FLIP_DEG, METHODS, YOUNG_FRAMES
-from .tables import CHECKED_AXES, INTERVAL, UNIT, checked_cells, tables
+from .tables import CALIBRATED, CHECKED_AXES, INTERVAL, UNIT, checked_cells, tables
 
 METHOD_NAMES = {
     "forecast": "torsocast",
@@ -113,6 +113,26 @@ def failures(t: dict[str, Any]) -> list[str]:
             )
         else:
             lines.append(f"- The forecast is nowhere worse than {name} ({cells} cells checked).")
+    calibration = t.get("coverage_cells")
+    if calibration and calibration["cells"]:
+        low, high = (f"{100 * b:g} %" for b in CALIBRATED)
+        if calibration["outside"]:
+            furthest = "; ".join(
+                f"{c['group']}, {c['component']} at {_h(c['horizon'])}: {_pct(c['coverage'])}"
+                for c in calibration["outside"][:6]
+            )
+            lines.append(
+                f"- **Forecast intervals off calibration** in {len(calibration['outside'])} of "
+                f"{calibration['cells']} cells (motion category x horizon x component): the truth "
+                f"inside the 80 % interval less than {low} or more than {high} of the time; the "
+                f"cells lie {100 * calibration['distance']:.1f} points from 80 % on average. "
+                f"Furthest: {furthest}."
+            )
+        else:
+            lines.append(
+                f"- The forecast intervals hold the truth {low} to {high} of the time in every motion "
+                f"category, horizon and component ({calibration['cells']} cells)."
+            )
     return lines
 
 

@@ -45,6 +45,9 @@ INTERVAL = 0.9
 #: Centre errors are reported in cm, angles in degrees.
 SCALE = {"centre": 100.0, "azimuth": float(np.degrees(1.0)), "elevation": float(np.degrees(1.0))}
 UNIT = {"centre": "cm", "azimuth": "deg", "elevation": "deg"}
+#: The share of the truth an 80 % forecast interval must hold in every motion category, horizon
+#: and component to count as calibrated (the issue's target).
+CALIBRATED = (0.75, 0.85)
 #: Edges (s) of the bands of a track's facing evidence (`facing_evidence`: seconds of the
 #: labels' agreement) the flip rate is given by. The labels alone build about a second's worth
 #: (the side decision's memory); more has been confirmed by another cue.
@@ -283,6 +286,28 @@ def coverage_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
     return rows
 
 
+def coverage_cells(rows: list[dict[str, Any]]) -> dict[str, Any]:
+    """The cells (group x horizon x component) of :func:`coverage_table`'s ``rows``: how many
+    held the truth within :data:`CALIBRATED` (``inside``) of how many (``cells``), their mean
+    distance from the middle of that band (``distance``, a share), and those outside it,
+    furthest first (``outside``: group, horizon, component and coverage)."""
+    target = sum(CALIBRATED) / 2
+    cells = [
+        {"group": r["group"], "horizon": r["horizon"], "component": c, "coverage": r[c]}
+        for r in rows
+        for c in COMPONENTS
+    ]
+    low, high = CALIBRATED
+    outside = [c for c in cells if not low <= c["coverage"] <= high]
+    outside.sort(key=lambda c: -abs(c["coverage"] - target))
+    return {
+        "inside": len(cells) - len(outside),
+        "cells": len(cells),
+        "distance": float(np.mean([abs(c["coverage"] - target) for c in cells])) if cells else float("nan"),
+        "outside": outside,
+    }
+
+
 def identity_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
     """Per group: people, the tracks they were given, identity switches and lost tracks."""
     rows: list[dict[str, Any]] = []
@@ -391,4 +416,5 @@ def tables(recovery: Columns, forecasts: Columns, identity: Columns) -> dict[str
         against: loss_intervals(forecasts, losses(out["forecasts"], against), against)
         for against in ("hold", "velocity")
     }
+    out["coverage_cells"] = coverage_cells(out["coverage"]["category"])
     return out
