@@ -451,36 +451,29 @@ def test_the_label_oracle_refuses_scenes_it_cannot_replay(tmp_path, capsys):
     assert err.count("\n") == 1 and "both name 'hips'" in err
 
 
+#: The columns of the records the comparison tests write: labels, then forecast errors.
+COMPARED_HEAD = ["scene", "t", "actor", "estimated", "azimuth", "category", "view", "horizon"]
+COMPARED_HEAD += [f"{m}_{c}" for m in ("forecast", "hold") for c in ("centre", "azimuth", "elevation")]
+
+
+def compared_row(scene: str, t: float, numbers: list[float]) -> list[Any]:
+    """A row of a written record: a walker seen from one side, forecast 0.4 s ahead, ``numbers``
+    after the labels."""
+    return [scene, t, 0, "True", 0.1, "walking", 10.0, 0.4, *numbers]
+
+
 def test_two_runs_compare_their_forecasts_scene_by_scene(tmp_path, capsys):
     # Ten scenes of 0.4 s forecasts of one motion seen from one side (one category, one view
     # bin); the second run's centre forecast errs 1 cm more than the first's in every forecast
     # (a change no draw of scenes hides, and one that turns a tie with holding still into a
     # loss); its angles are the first run's.
     rng = np.random.default_rng(2)
-    head = ["scene", "t", "actor", "estimated", "azimuth", "category", "view", "horizon"]
-    head += [f"{m}_{c}" for m in ("forecast", "hold") for c in ("centre", "azimuth", "elevation")]
+    head = COMPARED_HEAD
     rows: list[list[Any]] = []
     for scene in range(10):
         for k in range(8):
             error = rng.uniform(0.05, 0.2)
-            rows.append(
-                [
-                    f"s{scene}",
-                    k / 10,
-                    0,
-                    "True",
-                    0.1,
-                    "walking",
-                    10.0,
-                    0.4,
-                    error,
-                    0.1,
-                    0.05,
-                    error,
-                    0.1,
-                    0.05,
-                ]
-            )
+            rows.append(compared_row(f"s{scene}", k / 10, [error, 0.1, 0.05, error, 0.1, 0.05]))
     for name, extra in (("a", 0.0), ("b", 0.01)):
         (tmp_path / name).mkdir()
         for table in ("recovery", "forecasts"):
@@ -602,8 +595,7 @@ def test_two_runs_compare_their_interval_cells(tmp_path, capsys):
     # run's intervals hold the truth in half the forecasts, the second run's (twice as wide) in
     # all of them but those missed by more than that, 80 % per draw: its 3 cells per draw are
     # calibrated, the first run's are not.
-    head = ["scene", "t", "actor", "estimated", "azimuth", "category", "view", "horizon"]
-    head += [f"{m}_{c}" for m in ("forecast", "hold") for c in ("centre", "azimuth", "elevation")]
+    head = [*COMPARED_HEAD]
     head += [f"{m}_{a}" for a in ("x", "y", "z", "azimuth", "elevation") for m in ("miss", "half_width")]
     for draw in ("p", "q"):
         for name, width in (("a", 0.1), ("b", 0.2)):
@@ -614,22 +606,7 @@ def test_two_runs_compare_their_interval_cells(tmp_path, capsys):
                 for k in range(10):
                     miss = (0.05, 0.15, 0.5)[0 if k < 5 else 1 if k < 8 else 2]
                     numbers = [0.1, 0.1, 0.05, 0.1, 0.1, 0.05, *[miss, width] * 5]
-                    lines.append(
-                        ",".join(
-                            str(v)
-                            for v in [
-                                f"{draw}{scene}",
-                                k / 10,
-                                0,
-                                "True",
-                                0.1,
-                                "walking",
-                                10.0,
-                                0.4,
-                                *numbers,
-                            ]
-                        )
-                    )
+                    lines.append(",".join(str(v) for v in compared_row(f"{draw}{scene}", k / 10, numbers)))
             for table in ("recovery", "forecasts"):
                 (folder / f"{table}.csv").write_text("\n".join(lines) + "\n")
     args = ["eval", "compare", str(tmp_path / "ap"), str(tmp_path / "bp"), "--also"]
