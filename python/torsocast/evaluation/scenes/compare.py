@@ -32,6 +32,7 @@ from .tables import (
     central,
     coverage_cells,
     coverage_table,
+    covered,
     groups,
     scene_draws,
     scene_percentile_draws,
@@ -114,12 +115,12 @@ def compare_coverage(pairs: list[tuple[Columns, Columns]]) -> dict[str, Any] | N
         counts = [coverage_cells(coverage_table(pair[side], "category")) for pair in pairs]
         cells = sum(c["cells"] for c in counts)
         distance = sum(c["distance"] * c["cells"] for c in counts) / cells if cells else float("nan")
-        inside = {}
-        for axis in POSE_COMPONENTS:
-            miss = np.concatenate([pair[side][f"miss_{axis}"] for pair in pairs])
-            width = np.concatenate([pair[side][f"half_width_{axis}"] for pair in pairs])
-            given = np.isfinite(width)
-            inside[axis] = float((miss[given] <= width[given]).mean()) if given.any() else float("nan")
+        every = pool([pair[side] for pair in pairs])
+        given = {axis: np.isfinite(every[f"half_width_{axis}"]) for axis in POSE_COMPONENTS}
+        inside = {
+            axis: covered(every, axis, given[axis]) if given[axis].any() else float("nan")
+            for axis in POSE_COMPONENTS
+        }
         out[name] = {
             "inside": [c["inside"] for c in counts],
             "cells": cells,

@@ -262,25 +262,27 @@ def forecast_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
     return rows
 
 
+def covered(cols: Columns, axis: str, mask: np.ndarray) -> float:
+    """The share of the forecasts ``mask`` picks whose truth fell inside their interval along
+    pose component ``axis`` (``miss_`` within ``half_width_``)."""
+    return float((cols[f"miss_{axis}"][mask] <= cols[f"half_width_{axis}"][mask]).mean())
+
+
 def coverage_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
     """Per group and horizon: the share of forecasts whose truth fell inside their 80 %
     interval, per component (the centre: the mean over x, y and z), among forecasts that had one."""
     rows: list[dict[str, Any]] = []
     if not cols or "half_width_x" not in cols:
         return rows
-
-    def covered(a: str, m: np.ndarray) -> float:
-        return float((cols[f"miss_{a}"][m] <= cols[f"half_width_{a}"][m]).mean())
-
     for label, mask in groups(cols, axis):
         for h in sorted(set(cols["horizon"].tolist())):
             m = mask & (cols["horizon"] == h) & np.isfinite(cols["half_width_x"])
             if not m.any():
                 continue
             row: dict[str, Any] = {"group": label, "horizon": h, "intervals": int(m.sum())}
-            row["centre"] = float(np.mean([covered(a, m) for a in "xyz"]))
-            row["azimuth"] = covered("azimuth", m)
-            row["elevation"] = covered("elevation", m)
+            row["centre"] = float(np.mean([covered(cols, a, m) for a in "xyz"]))
+            row["azimuth"] = covered(cols, "azimuth", m)
+            row["elevation"] = covered(cols, "elevation", m)
             row["with_interval"] = float(m.sum() / max((mask & (cols["horizon"] == h)).sum(), 1))
             rows.append(row)
     return rows
