@@ -39,6 +39,12 @@ use std::f64::consts::PI;
 const MEMORY: f64 = 2.0;
 /// Predictions scored before the mix is trusted.
 const MIN_SCORED: f64 = 3.0;
+/// Scores' worth [`INTERVAL_80`] counts for among a track's own errors in its interval's
+/// multiple. A track keeps only a few seconds' scores (a few to a few dozen at a camera's frame
+/// rate), and a prior counted as three of them was the 80 % point itself for most tracks,
+/// whatever their own errors said (docs/benchmark.md, "the prior's three scores"); as one, the
+/// track's own errors decide once it has a few.
+const PRIOR_SCORES: f64 = 1.0;
 /// Standard errors by which a candidate's mean gain over the prior must exceed zero to enter
 /// the mix. Chosen on the scenes benchmark's development split (docs/benchmark.md).
 pub const SIGNIFICANCE: f64 = 2.0;
@@ -48,7 +54,7 @@ const VELOCITY: usize = 3;
 pub const COVERAGE: f64 = 0.8;
 /// Half-width of a central 80 % interval in units of [`SelfCheck::spread`], per pose component,
 /// before the track's own errors say otherwise: the prior of [`SelfCheck::half_width`], counted
-/// as a few scores' worth.
+/// as one score's worth.
 /// A normal error would need 1.28; forecast errors against the truth have heavier tails and
 /// include what the track cannot see in its own errors (the estimate's offset from the true
 /// pose), by different amounts for the centre and the angles, so each multiplier was set on the
@@ -69,7 +75,7 @@ pub const INTERVAL_80: [f64; 5] = [2.0, 2.0, 2.0, 1.9, 1.6];
 /// two directions). Set on the scenes benchmark's development draws to bring each component's
 /// intervals to 80 % over all motions and horizons (docs/benchmark.md gives the coverage per
 /// motion); the intervals given before a track has checked a forecast are [`INTERVAL_80`]'s.
-pub const TRUTH_MARGIN: [f64; 5] = [1.4, 1.4, 0.8, 1.04, 1.06];
+pub const TRUTH_MARGIN: [f64; 5] = [1.67, 1.67, 0.94, 1.2, 1.19];
 /// An angle's half-width taken at most half a turn: a wider interval holds every direction
 /// too, and half a turn says so in a number a robot can read (an interval of several turns
 /// reads as a broken one). Coverage does not change: an angle's error is at most half a turn.
@@ -422,7 +428,7 @@ impl SelfCheck {
     /// Per component, the half-width of an interval meant to hold the pose `horizon` seconds
     /// ahead with probability [`COVERAGE`]: the [`spread`](Self::spread) times the share
     /// [`COVERAGE`] of the track's recent errors at that horizon in units of the spread given
-    /// with them, [`INTERVAL_80`] counted among them as a few errors' worth (so a
+    /// with them, [`INTERVAL_80`] counted among them as one error's worth (so a
     /// walker's few outliers, which swell its spread, and a player whose motion keeps changing
     /// beyond what its spread foresaw, each move their own multiple), times [`TRUTH_MARGIN`].
     /// Where a shorter check stands in for `horizon`, [`INTERVAL_80`] in place of the
@@ -433,7 +439,7 @@ impl SelfCheck {
         let own = k == self.nearest(horizon);
         Some(within_half_turn(std::array::from_fn(|c| {
             let multiple = if own {
-                self.tails[k][c].quantile(COVERAGE, INTERVAL_80[c], MIN_SCORED)
+                self.tails[k][c].quantile(COVERAGE, INTERVAL_80[c], PRIOR_SCORES)
             } else {
                 INTERVAL_80[c]
             };
@@ -668,6 +674,21 @@ mod tests {
         assert!(check.spread(0.4).unwrap()[0] < 1e-12);
         assert!((check.spread(1.0).unwrap()[0] - 0.2).abs() < 1e-9);
         assert!((check.spread(2.0).unwrap()[0] - 0.2 * 2f64.sqrt()).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_few_errors_of_its_own_outweigh_the_prior_multiple() {
+        // Ten scores, the most a track at 10 frames per second keeps in its first second: nine
+        // errors of half the spread given and one of five. The 80 % point is the track's own
+        // half spread; the prior, counted as three scores, would have been the answer.
+        let mut tails = RecentQuantile::default();
+        for z in [0.5; 9].into_iter().chain([5.0]) {
+            tails.add(Some(z), 1.0);
+        }
+        let own = tails.quantile(COVERAGE, INTERVAL_80[AZIMUTH], PRIOR_SCORES);
+        assert!((own / 0.5 - 1.0).abs() < 0.15, "{own}");
+        let as_three = tails.quantile(COVERAGE, INTERVAL_80[AZIMUTH], 3.0);
+        assert_eq!(as_three, INTERVAL_80[AZIMUTH]);
     }
 
     #[test]
