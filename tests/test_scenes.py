@@ -812,7 +812,7 @@ def test_eval_scenes_quick_runs_and_its_numbers_come_back_for_the_seed(tmp_path,
     assert "By torso's tilt from upright" in text and by_tilt[0]["group"] == "under 15 deg"
     assert sum(r["person_frames"] for r in by_tilt) == tables["recovery"]["all"][0]["person_frames"]
     # Nearly every forecast comes with an 80 % interval, and over all motions the truth falls in
-    # it about that often (measured on this split: 98 % with one, 71.6 to 85.8 % inside per
+    # it about that often (measured on this split: about 98 % with one, 71.6 to 85.8 % inside per
     # component and horizon; by motion the report split's cells are in docs/benchmark.md). The
     # truth's margin gone wrong by a factor of two leaves this band (half: 59 to 69 %; double:
     # 78 to 94 %).

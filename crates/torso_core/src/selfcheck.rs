@@ -42,8 +42,8 @@ const MIN_SCORED: f64 = 3.0;
 /// Scores' worth [`INTERVAL_80`] counts for among a track's own errors in its interval's
 /// multiple. A track keeps only a few seconds' scores (a few to a few dozen at a camera's frame
 /// rate), and a prior counted as three of them was the 80 % point itself for most tracks,
-/// whatever their own errors said (docs/benchmark.md, "the prior's weight in a track's multiple"); as one, the
-/// track's own errors decide once it has a few.
+/// whatever their own errors said (docs/benchmark.md, "the prior's weight in a track's
+/// multiple"); as one, the track's own errors decide once it has a few.
 const PRIOR_SCORES: f64 = 1.0;
 /// Standard errors by which a candidate's mean gain over the prior must exceed zero to enter
 /// the mix. Chosen on the scenes benchmark's development split (docs/benchmark.md).
@@ -73,8 +73,9 @@ pub const INTERVAL_80: [f64; 5] = [2.0, 2.0, 2.0, 1.9, 1.6];
 /// ways the recent past did not show; nearer for the height (its own errors are larger than its
 /// errors against the truth). One value for both ground coordinates (a world frame's axes are any
 /// two directions). Set on the scenes benchmark's development draws to bring each component's
-/// intervals to 80 % over all motions and horizons (docs/benchmark.md gives the coverage per
-/// motion); the intervals given before a track has checked a forecast are [`INTERVAL_80`]'s.
+/// intervals to 80 % over all motions and horizons, with the prior's weight at
+/// [`PRIOR_SCORES`] (docs/benchmark.md gives the coverage per motion); the intervals given
+/// before a track has checked a forecast are [`INTERVAL_80`]'s.
 pub const TRUTH_MARGIN: [f64; 5] = [1.67, 1.67, 0.94, 1.2, 1.19];
 /// An angle's half-width taken at most half a turn: a wider interval holds every direction
 /// too, and half a turn says so in a number a robot can read (an interval of several turns
