@@ -44,7 +44,7 @@ const MIN_SCORED: f64 = 3.0;
 /// rate), and a prior counted as three of them was the 80 % point itself for most tracks,
 /// whatever their own errors said (docs/benchmark.md, "the prior's weight in a track's
 /// multiple"); as one, the track's own errors decide once it has a few.
-const PRIOR_SCORES: f64 = 1.0;
+pub const PRIOR_SCORES: f64 = 1.0;
 /// Standard errors by which a candidate's mean gain over the prior must exceed zero to enter
 /// the mix. Chosen on the scenes benchmark's development split (docs/benchmark.md).
 pub const SIGNIFICANCE: f64 = 2.0;
