@@ -28,6 +28,9 @@ F64 = npt.NDArray[np.float64]
 
 #: Motion category of a person turning on the spot (:attr:`Actor.turn`), whatever the clip.
 TURNING = "turning on the spot"
+#: Motion category of a person who turns on the spot and stops, again and again
+#: (:attr:`Actor.bursts`), whatever the clip.
+TURNING_AND_STOPPING = "turning and stopping"
 
 
 def torso_truth(joints: F64) -> F64:
@@ -37,6 +40,17 @@ def torso_truth(joints: F64) -> F64:
     torso = np.ascontiguousarray(joints[:, list(cmu.TORSO)])
     planes = fit_planes(torso, coco.TORSO_SIDES, min_orientation_cosine=0.0)
     return np.column_stack([planes["centre"], planes["azimuth"], planes["elevation"]])
+
+
+def burst_yaw(bursts: tuple[tuple[float, float, float], ...], t: F64) -> F64:
+    """How far ``bursts`` of turning (scene time it starts, duration, angle: s, s, rad) have
+    turned a person by scene times ``t``: each burst as a minimum-jerk profile, which starts and
+    ends at rest as a person's turn does."""
+    out = np.zeros_like(t, dtype=np.float64)
+    for start, duration, angle in bursts:
+        u = np.clip((t - start) / duration, 0.0, 1.0)
+        out += angle * u**3 * (10.0 - 15.0 * u + 6.0 * u**2)
+    return out
 
 
 def yaw_matrix(yaw: float) -> F64:
@@ -52,7 +66,9 @@ class Actor:
 
     With a ``turn`` rate (rad/s), the person turns on the spot instead: the pelvis stays at
     ``position`` while the body turns about it, by ``yaw`` at ``anchor`` and steadily from there
-    (the clip's own walking and turning are kept relative to the pelvis)."""
+    (the clip's own walking and turning are kept relative to the pelvis). With ``bursts`` (scene
+    time each starts, its duration and angle: s, s, rad), the same on the spot, turned by ``yaw``
+    before the first burst and by each burst in turn (:func:`burst_yaw`), standing between them."""
 
     motion: str
     start: float
@@ -63,13 +79,16 @@ class Actor:
     # Left out of the repr so that the scenes drawn before turning existed keep their cache keys
     # (the scenes benchmark's cache names files by the spec's repr; it adds the turn itself).
     turn: float = field(default=0.0, repr=False)
+    bursts: tuple[tuple[float, float, float], ...] = field(default=(), repr=False)
 
     def place(self, motion: Motion) -> F64:
         """The clip's joints ``(frames, 38, 3)`` where this actor puts them."""
         target = np.array([*self.position, 0.0])
-        if self.turn:
+        if self.turn or self.bursts:
             pelvis = motion.joints[:, cmu.PELVIS : cmu.PELVIS + 1] * [1.0, 1.0, 0.0]
-            yaw = self.yaw + self.turn * (np.arange(len(motion.joints)) / motion.rate_hz - self.anchor)
+            clip_time = np.arange(len(motion.joints)) / motion.rate_hz
+            yaw = self.yaw + self.turn * (clip_time - self.anchor)
+            yaw += burst_yaw(self.bursts, clip_time - self.start)
             c, s = np.cos(yaw)[:, None], np.sin(yaw)[:, None]
             x, y, z = np.moveaxis(motion.joints - pelvis, -1, 0)
             return np.stack([c * x - s * y, s * x + c * y, z], axis=-1) + target  # type: ignore[no-any-return]
@@ -139,9 +158,11 @@ class RenderedScene:
         return np.where((k >= 0) & (k < len(clip.joints)), k, -1)
 
     def category(self, actor: int) -> str:
-        """The motion category of ``actor``: its clip's, or :data:`TURNING`."""
+        """The motion category of ``actor``: its clip's, :data:`TURNING` or
+        :data:`TURNING_AND_STOPPING`."""
         clip = self._clip(actor)
-        return TURNING if self.spec.actors[actor].turn else clip.category
+        person = self.spec.actors[actor]
+        return TURNING if person.turn else TURNING_AND_STOPPING if person.bursts else clip.category
 
     def truth_at(self, actor: int, t: float | F64) -> F64:
         """True torso pose(s) of ``actor`` at scene time(s) ``t``: ``(..., 5)``, NaN where absent."""

@@ -7,7 +7,8 @@ tilt, and one to six people, each a clip of a motion category drawn uniformly, t
 heading and placed 1 to 6 m from the camera inside its field of view, never nearer than
 :data:`MIN_SEPARATION` to another person at the same instant. After these come a few scenes of
 one to three people turning on the spot at a steady rate (the case of a steady turn, where a
-heading forecast has a real trend to continue).
+heading forecast has a real trend to continue), then as many of people who turn on the spot and
+stop, again and again (as people turn to look at something: a trend that ends).
 """
 
 from __future__ import annotations
@@ -51,26 +52,36 @@ MAX_PEOPLE = 6
 TURN_RATE_DEG = (30.0, 120.0)
 TURNING_PEOPLE = 3
 TURNING_MOTIONS = ("h36m constrained", "h36m high variance")
+#: Scenes of people who turn and stop (the same people and clips as the turning scenes): each
+#: turn through an angle drawn from this range (deg, either way) at a mean rate drawn from
+#: :data:`TURN_RATE_DEG`, from rest to rest; between turns the person stands for a time drawn
+#: from :data:`STOP_S` (s). The first turn starts at a time drawn from :data:`FIRST_TURN_S` (s,
+#: scene time: some people are mid-turn when the scene starts).
+TURN_ANGLE_DEG = (45.0, 180.0)
+STOP_S = (0.5, 3.0)
+FIRST_TURN_S = (-1.0, 2.0)
 
 
 @dataclass(frozen=True)
 class Size:
     """How much a run renders: ``scenes`` of people as their clips move them, then ``turning``
-    scenes of people turning on the spot (numbered after the others, so that adding them left
-    the first scenes as they were)."""
+    scenes of people turning on the spot, then ``stopping`` scenes of people who turn and stop
+    (each kind numbered after the ones before, so that adding it left them as they were)."""
 
     scenes: int
     duration: float
     """Seconds per scene."""
     turning: int = 0
+    stopping: int = 0
 
     def scaled(self, scenes: int) -> Size:
-        """``scenes`` scenes, with turning scenes in the same proportion."""
-        return Size(scenes, self.duration, round(self.turning * scenes / self.scenes))
+        """``scenes`` scenes, with turning and stopping scenes in the same proportion."""
+        share = scenes / self.scenes
+        return Size(scenes, self.duration, round(self.turning * share), round(self.stopping * share))
 
 
-FULL = Size(scenes=100, duration=6.0, turning=16)
-QUICK = Size(scenes=8, duration=4.0, turning=1)
+FULL = Size(scenes=100, duration=6.0, turning=16, stopping=16)
+QUICK = Size(scenes=8, duration=4.0, turning=1, stopping=1)
 
 #: Where the data is looked for when no folder is given.
 CMU_ENV, H36M_ENV = "TORSOCAST_CMU", "TORSOCAST_H36M"
@@ -179,6 +190,18 @@ def _turn_rate(rng: np.random.Generator) -> float:
     return float(rng.choice([-1.0, 1.0]) * np.radians(rng.uniform(*TURN_RATE_DEG)))
 
 
+def _bursts(rng: np.random.Generator, duration: float) -> tuple[tuple[float, float, float], ...]:
+    """Turns and stops until ``duration``: (start, duration, angle) of each turn (s, s, rad)."""
+    out = []
+    start = rng.uniform(*FIRST_TURN_S)
+    while start < duration:
+        angle = float(rng.choice([-1.0, 1.0]) * np.radians(rng.uniform(*TURN_ANGLE_DEG)))
+        length = abs(angle) / np.radians(rng.uniform(*TURN_RATE_DEG))
+        out.append((float(start), float(length), angle))
+        start += length + rng.uniform(*STOP_S)
+    return tuple(out)
+
+
 def draw_scene(
     catalogue: Catalogue,
     index: int,
@@ -186,14 +209,17 @@ def draw_scene(
     size: Size,
     people: int | None = None,
     turning: bool = False,
+    stopping: bool = False,
 ) -> SceneSpec:
     """Scene ``index`` of a run with ``seed``: the same numbers give the same scene. A
-    ``turning`` scene's people turn on the spot (:data:`TURN_RATE_DEG`)."""
+    ``turning`` scene's people turn on the spot (:data:`TURN_RATE_DEG`), a ``stopping`` scene's
+    turn on the spot and stop (:data:`TURN_ANGLE_DEG`, :data:`STOP_S`)."""
+    on_the_spot = turning or stopping
     rng = np.random.default_rng([seed, index])
     sensor = sorted(SENSORS)[int(rng.integers(len(SENSORS)))]
     fps = FRAME_RATES[int(rng.integers(len(FRAME_RATES)))]
     height, tilt = rng.uniform(*HEIGHT_M), rng.uniform(*TILT_DEG)
-    most = TURNING_PEOPLE if turning else MAX_PEOPLE
+    most = TURNING_PEOPLE if on_the_spot else MAX_PEOPLE
     if people is None:
         people = 1 if rng.random() < SINGLE_SHARE else int(rng.integers(2, most + 1))
     intr = SENSORS[sensor].intrinsics
@@ -204,7 +230,7 @@ def draw_scene(
     for _ in range(people):
         for _attempt in range(30):
             avoid = frozenset(a.motion for a in actors)
-            motion = catalogue.draw(rng, avoid, TURNING_MOTIONS if turning else None)
+            motion = catalogue.draw(rng, avoid, TURNING_MOTIONS if on_the_spot else None)
             spare = motion.duration - size.duration
             # A clip shorter than the scene starts at a random moment of it (the person appears).
             start = rng.uniform(0.0, spare) if spare >= 0 else -rng.uniform(0.0, -spare)
@@ -219,6 +245,7 @@ def draw_scene(
                 (float(distance * np.cos(bearing)), float(distance * np.sin(bearing))),
                 random_outfit(rng),
                 turn=_turn_rate(rng) if turning else 0.0,
+                bursts=_bursts(rng, size.duration) if stopping else (),
             )
             path = _pelvis_path(actor, motion, times)
             with np.errstate(invalid="ignore"):

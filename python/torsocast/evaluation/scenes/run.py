@@ -71,12 +71,14 @@ class Benchmark:
 
 def _cache_file(cache: Path, spec: SceneSpec, model: KeypointModel) -> Path:
     turns = [a.turn for a in spec.actors if a.turn]  # not in the repr (see Actor.turn)
+    bursts = [a.bursts for a in spec.actors if a.bursts]
     variant = getattr(model, "variant", "")
     variant = f" {variant}" if variant else ""
     # "lifted": the joints before the tracker dropped any (recordings of the joints as the
     # tracks took them replayed some frames otherwise than the live run).
     text = f"{spec!r} {type(model).__name__} {model.input_size}{variant} lifted"
     text += f" turns {turns}" if turns else ""
+    text += f" bursts {bursts}" if bursts else ""
     key = hashlib.sha256(text.encode()).hexdigest()[:16]
     return cache / f"{spec.name}-{key}.npz"
 
@@ -189,6 +191,8 @@ def evaluate(
     size = size or (QUICK if quick else FULL)
     specs = [draw_scene(catalogue, i, seed, size) for i in range(size.scenes)]
     specs += [draw_scene(catalogue, size.scenes + i, seed, size, turning=True) for i in range(size.turning)]
+    first = size.scenes + size.turning
+    specs += [draw_scene(catalogue, first + i, seed, size, stopping=True) for i in range(size.stopping)]
     bench = Benchmark(catalogue.split, seed, quick, [], notes=catalogue.notes)
     bench.models = {"one person": "MoveNet Lightning int8 (bundled)", "several people": models.multi_name}
     if models.multi is None:
