@@ -171,6 +171,9 @@ def test_a_person_who_turns_and_stops_is_turned_from_rest_to_rest(standing):
     assert rate.max() == pytest.approx(15 / 8 * (np.pi / 2) / 0.8, rel=1e-3)
     assert scene.placed[0][:, cmu.PELVIS, :2] == pytest.approx(np.tile([2.0, 0.5], (240, 1)), abs=1e-9)
     assert scene.category(0) == TURNING_AND_STOPPING
+    for bad in ((0.2, 0.0, 1.0), (0.2, 0.5, float("nan")), (0.2, 0.5)):
+        with pytest.raises(ValueError, match="a burst is"):
+            Actor("still", 0.0, 0.0, 0.3, (2.0, 0.5), bursts=(bad,))  # type: ignore[arg-type]
 
 
 def test_stopping_scenes_turn_their_people_within_the_drawn_ranges_and_leave_the_others_alone():

@@ -81,6 +81,11 @@ class Actor:
     turn: float = field(default=0.0, repr=False)
     bursts: tuple[tuple[float, float, float], ...] = field(default=(), repr=False)
 
+    def __post_init__(self) -> None:
+        for burst in self.bursts:
+            if len(burst) != 3 or not all(np.isfinite(burst)) or not burst[1] > 0.0:
+                raise ValueError(f"a burst is (start, duration > 0, angle), finite; got {burst!r}")
+
     def place(self, motion: Motion) -> F64:
         """The clip's joints ``(frames, 38, 3)`` where this actor puts them."""
         target = np.array([*self.position, 0.0])
