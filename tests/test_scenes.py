@@ -202,6 +202,8 @@ def test_stopping_scenes_turn_their_people_within_the_drawn_ranges_and_leave_the
                 if np.isfinite(after):
                     assert STOP_S[0] <= after - start - length <= STOP_S[1]
     assert Size(100, 6.0, 16, 16).scaled(50) == Size(50, 6.0, 8, 8)
+    with pytest.raises(ValueError, match="not both"):
+        draw_scene(catalogue, 5, 7, size, turning=True, stopping=True)
 
 
 def test_labels_show_whose_pixel_it_is_and_a_person_behind_another_is_hidden(standing):

@@ -213,7 +213,9 @@ def draw_scene(
 ) -> SceneSpec:
     """Scene ``index`` of a run with ``seed``: the same numbers give the same scene. A
     ``turning`` scene's people turn on the spot (:data:`TURN_RATE_DEG`), a ``stopping`` scene's
-    turn on the spot and stop (:data:`TURN_ANGLE_DEG`, :data:`STOP_S`)."""
+    turn on the spot and stop (:data:`TURN_ANGLE_DEG`, :data:`STOP_S`); not both."""
+    if turning and stopping:
+        raise ValueError("a scene's people turn steadily (turning) or turn and stop (stopping), not both")
     on_the_spot = turning or stopping
     rng = np.random.default_rng([seed, index])
     sensor = sorted(SENSORS)[int(rng.integers(len(SENSORS)))]
