@@ -174,6 +174,9 @@ def test_a_person_who_turns_and_stops_is_turned_from_rest_to_rest(standing):
     for bad in ((0.2, 0.0, 1.0), (0.2, 0.5, float("nan")), (0.2, 0.5)):
         with pytest.raises(ValueError, match="a burst is"):
             Actor("still", 0.0, 0.0, 0.3, (2.0, 0.5), bursts=(bad,))  # type: ignore[arg-type]
+    # Both ways at once would turn the person by both and list them as turning steadily.
+    with pytest.raises(ValueError, match="not both"):
+        Actor("still", 0.0, 0.0, 0.3, (2.0, 0.5), turn=0.5, bursts=bursts)
 
 
 def test_stopping_scenes_turn_their_people_within_the_drawn_ranges_and_leave_the_others_alone():

@@ -82,6 +82,8 @@ class Actor:
     bursts: tuple[tuple[float, float, float], ...] = field(default=(), repr=False)
 
     def __post_init__(self) -> None:
+        if self.turn and self.bursts:
+            raise ValueError("an actor turns steadily (turn) or in bursts (bursts), not both")
         for burst in self.bursts:
             if len(burst) != 3 or not all(np.isfinite(burst)) or not burst[1] > 0.0:
                 raise ValueError(f"a burst is (start, duration > 0, angle), finite; got {burst!r}")
