@@ -68,7 +68,8 @@ class Actor:
     ``position`` while the body turns about it, by ``yaw`` at ``anchor`` and steadily from there
     (the clip's own walking and turning are kept relative to the pelvis). With ``bursts`` (scene
     time each starts, its duration and angle: s, s, rad), the same on the spot, turned by ``yaw``
-    before the first burst and by each burst in turn (:func:`burst_yaw`), standing between them."""
+    before the first burst and by each burst in turn (:func:`burst_yaw`), standing between them
+    (a ``turn`` rate or ``bursts``, not both)."""
 
     motion: str
     start: float
