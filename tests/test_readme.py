@@ -1,6 +1,6 @@
 """The README's Python example is executed as written (the Rust one runs as a doctest), its
-headline figures are those of the benchmark's report in docs/benchmark.md, and the links within
-the README and each document in docs/ reach their headings."""
+headline figures are those of the benchmark's report in docs/benchmark.md, and the links of
+the README and of each document in docs/, within it or to another, reach their headings."""
 
 import re
 from pathlib import Path
@@ -79,12 +79,26 @@ def _anchor(heading: str) -> str:
     return re.sub(r"[^\w\- ]", "", heading.strip().lower()).replace(" ", "-")
 
 
+def _anchors(doc: Path) -> set[str]:
+    return {_anchor(h) for h in re.findall(r"^#+ (.+)$", doc.read_text(), flags=re.M)}
+
+
+DOCUMENTS = [README, *sorted((README.parent / "docs").glob("*.md"))]
+
+
 def test_every_link_within_a_document_reaches_one_of_its_headings():
-    # docs/benchmark.md's reader's map links some fifty sections by their anchors; a section
-    # renamed leaves a link that goes nowhere.
-    for doc in [README, *sorted((README.parent / "docs").glob("*.md"))]:
-        text = doc.read_text()
-        anchors = {_anchor(h) for h in re.findall(r"^#+ (.+)$", text, flags=re.M)}
-        links = re.findall(r"\]\(#([^)]+)\)", text)
-        missing = [link for link in links if link not in anchors]
+    # docs/benchmark_log.md's topic index links some seventy sections by their anchors; a
+    # section renamed leaves a link that goes nowhere.
+    for doc in DOCUMENTS:
+        links = re.findall(r"\]\(#([^)]+)\)", doc.read_text())
+        missing = [link for link in links if link not in _anchors(doc)]
         assert not missing, f"{doc.name}: links to no heading: {missing}"
+
+
+def test_every_link_to_another_document_reaches_it_and_its_heading():
+    # The benchmark's page and its log link each other's sections.
+    for doc in DOCUMENTS:
+        for target, anchor in re.findall(r"\]\(([\w./-]+\.md)(?:#([^)]+))?\)", doc.read_text()):
+            path = doc.parent / target
+            assert path.is_file(), f"{doc.name}: links to {target}, which is not there"
+            assert not anchor or anchor in _anchors(path), f"{doc.name}: {target}#{anchor} is no heading"
