@@ -836,7 +836,7 @@ def test_eval_scenes_quick_runs_and_its_numbers_come_back_for_the_seed(tmp_path,
     # 2026-12-04; 2.9 % when measured earlier that day, on another machine and earlier
     # code; 26.2 % before the bent-knees cue, the recent heading's side of the torso line and
     # MoveNet's crop; 11.6 % when last measured before, ahead of the later heading rules in
-    # docs/benchmark.md; the target is 1 %). Twice the measured share leaves room for another
+    # docs/benchmark_log.md; the target is 1 %). Twice the measured share leaves room for another
     # CPU's int8 kernels, not for a rule's loss.
     assert tables["recovery"]["all"][0]["flips"] < 0.06
     # The headings a cue beside the labels confirms flip far less often (measured: 68.0 % of

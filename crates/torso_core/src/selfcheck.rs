@@ -42,11 +42,11 @@ const MIN_SCORED: f64 = 3.0;
 /// Scores' worth [`INTERVAL_80`] counts for among a track's own errors in its interval's
 /// multiple. A track keeps only a few seconds' scores (a few to a few dozen at a camera's frame
 /// rate), and a prior counted as three of them was the 80 % point itself for most tracks,
-/// whatever their own errors said (docs/benchmark.md, "the prior's weight in a track's
+/// whatever their own errors said (docs/benchmark_log.md, "the prior's weight in a track's
 /// multiple"); as one, the track's own errors decide once it has a few.
 pub const PRIOR_SCORES: f64 = 1.0;
 /// Standard errors by which a candidate's mean gain over the prior must exceed zero to enter
-/// the mix. Chosen on the scenes benchmark's development split (docs/benchmark.md).
+/// the mix. Chosen on the scenes benchmark's development split (docs/benchmark_log.md).
 pub const SIGNIFICANCE: f64 = 2.0;
 const HOLD: usize = 0;
 const VELOCITY: usize = 3;

@@ -59,7 +59,7 @@ const MAX_LEG_PROPORTION: f64 = 2.0;
 /// Largest angle (rad) between a frame's heading and the recent heading for the frame to be
 /// confident: beyond it the frame's torso line lies nearer across the recent heading than along
 /// it, far more often a bad plane than a turn that fast. Chosen on the scenes benchmark's
-/// development split against a stricter bar (docs/benchmark.md).
+/// development split against a stricter bar (docs/benchmark_log.md).
 const MAX_CONFIDENT_TURN: f64 = FRAC_PI_4;
 /// Time constant (s) of the recent heading whose side of the torso line a frame takes, for a
 /// frame whose knees agree with its heading (or show no direction); longer as they point away.
@@ -67,7 +67,7 @@ const REFERENCE_TIME: f64 = 0.2;
 /// The path (rad) the recent heading sweeps, turning or wavering, over which the evidence that
 /// decides the side is forgotten (to 1/e): a quarter turn takes a front view to a profile,
 /// where the cues read otherwise. Dev: an eighth or a half turn flipped more, and so did the
-/// net turn alone, without the wavering (docs/benchmark.md).
+/// net turn alone, without the wavering (docs/benchmark_log.md).
 const SIDE_TURN: f64 = FRAC_PI_2;
 /// Time constant (s) over which the evidence that decides the side is forgotten while the
 /// recent heading holds still, so that evidence built wrong does not hold a still person's
@@ -103,7 +103,7 @@ pub struct FacingConfig {
     /// Weight of the bent-knees cue, relative to the labels'. The knees are right in about as
     /// many of their votes as the labels, and a knee bent forwards is read where it stands,
     /// whatever the detector calls it, so a frame's knees outvote labels it has exchanged. Set
-    /// on three draws of the scenes benchmark's development split (docs/benchmark.md, "the
+    /// on three draws of the scenes benchmark's development split (docs/benchmark_log.md, "the
     /// knees' weight, on a third draw").
     pub knee_weight: f64,
     /// Weight of the walking-direction cue, relative to the labels'.

@@ -18,7 +18,7 @@ use crate::vec3::{distance, finite, horizontal_distance, horizontally_within};
 /// The farthest (m) a torso joint may lie, horizontally, from the median of the other three: a
 /// frontal torso with broad shoulders (0.5 m) and hips (0.35 m) puts a shoulder about 0.43 m
 /// from it. Chosen on the scenes benchmark's development split (flips level from 0.4 to
-/// 0.6 m; docs/benchmark.md).
+/// 0.6 m; docs/benchmark_log.md).
 pub const MAX_TORSO_SPREAD: f64 = 0.5;
 
 /// No two joints of one torso lie further apart than this (m), horizontally: a torso bent flat

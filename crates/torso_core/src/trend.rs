@@ -19,7 +19,7 @@ use std::f64::consts::{FRAC_PI_2, FRAC_PI_3};
 /// How many ordinary standard errors the azimuth's fitted rate must stand from zero for its
 /// history to count as a steady turn (the residuals of a history are correlated, so the ordinary
 /// standard error is small and the bar is high). Chosen on the scenes benchmark's development
-/// split (docs/benchmark.md gives the effect of the rule).
+/// split (docs/benchmark_log.md gives the effect of the rule).
 pub const STEADY: f64 = 10.0;
 
 /// How many standard errors, allowing for the residuals' correlation, the centre's fitted
@@ -27,13 +27,13 @@ pub const STEADY: f64 = 10.0;
 /// the root sum of squares of the two coordinates' rates, each in its own standard errors, so
 /// that a walk is told the same whichever way it runs against the world's axes (a walk along a
 /// diagonal splits its rate between them). Chosen on the scenes benchmark's development split
-/// (both draws; docs/benchmark.md).
+/// (both draws; docs/benchmark_log.md).
 pub const STEADY_CENTRE: f64 = 5.0;
 
 /// Slowest horizontal speed (m/s) of a steady walk. A slower line through the centre's history,
 /// however significant, is more often the estimate drifting (a person turning on the spot,
 /// seen from another side, or shuffling) than a walk, and continued it lost to holding still
-/// on the scenes benchmark's development split (both draws; docs/benchmark.md); people walk at
+/// on the scenes benchmark's development split (both draws; docs/benchmark_log.md); people walk at
 /// well over half a metre a second.
 pub const MIN_WALK_SPEED: f64 = 0.2;
 
@@ -43,13 +43,13 @@ pub const MIN_WALK_SPEED: f64 = 0.2;
 /// estimate drifting while a person stands (turning, bending, shifting their weight), and
 /// continued it lost to holding still. A third of a turn leaves room for a young track's poor
 /// torso planes: chosen on the scenes benchmark's development split, where an eighth of a turn
-/// refused young runners' walks and five twelfths kept more of the drifts (docs/benchmark.md).
+/// refused young runners' walks and five twelfths kept more of the drifts (docs/benchmark_log.md).
 pub const MAX_WALK_ACROSS: f64 = FRAC_PI_3;
 
 /// Shortest history (s) over which a steady turn of the torso bends a walk's continuation. A
 /// walker's torso twists to and fro with every stride (a stride takes about a second), and a line
 /// through less of the heading than that can take the twist for a turn (measured on the scenes
-/// benchmark's development split: docs/benchmark.md).
+/// benchmark's development split: docs/benchmark_log.md).
 pub const MIN_WALK_TURN_SEEN: f64 = 1.0;
 
 /// The residuals' lag-one autocorrelation is taken at most this: near one, the variance factor
@@ -70,11 +70,11 @@ pub struct Trend {
     /// `√((1 + ρ) / (1 - ρ))`, ρ taken from 0): a walker's sway or a stop in the history leaves
     /// residuals that run in one direction for a while, which count as fewer independent ones.
     /// The angles' is the ordinary one: a turning person's rate changes smoothly, and so
-    /// corrected the steady turns were missed (docs/benchmark.md). The samples counted are the
+    /// corrected the steady turns were missed (docs/benchmark_log.md). The samples counted are the
     /// forecaster's grid samples, the slots filled between two frames included: a camera slower
     /// than the grid gives fewer independent samples than are counted, and a history of two or
     /// three frames at 10 or 15 frames per second, filled along straight lines, has no residual
-    /// and an infinite significance (the walks it starts are mostly real: docs/benchmark.md).
+    /// and an infinite significance (the walks it starts are mostly real: docs/benchmark_log.md).
     pub significance: Pose,
     /// Root-mean-square scatter of each component's history about its line.
     pub scatter: Pose,
@@ -235,7 +235,7 @@ impl Trend {
     /// torso's sway and bob over a short history fit a rate mostly of noise, and an angle goes
     /// only as far as the body turns or leans. The centre's drift is taken whole: a person
     /// drifting too slowly to count as a walk keeps drifting (the young tracks' centre intervals
-    /// are too narrow already, docs/benchmark.md). `None` for a history too short to fit.
+    /// are too narrow already, docs/benchmark_log.md). `None` for a history too short to fit.
     pub fn spread(&self, horizon: f64, continued: [bool; 5]) -> Option<Pose> {
         if self.seen == 0.0 {
             return None;
@@ -268,7 +268,7 @@ impl Trend {
     /// The centre's height never does: a torso rises or sinks only as far as the body lets it
     /// (a jump, sitting down, standing up), so a line through its recent heights is not one to
     /// continue for seconds (held still instead, no motion's forecasts on the scenes
-    /// benchmark's development split got worse; docs/benchmark.md).
+    /// benchmark's development split got worse; docs/benchmark_log.md).
     pub fn steady(&self) -> [bool; 5] {
         let [vx, vy] = [self.rate[0], self.rate[1]];
         let along_torso = self

@@ -28,7 +28,7 @@ from .model import Detections
 BUNDLED = "movenet-lightning-int8.onnx"
 
 #: The crop's side over the longer side of the last frame's keypoint box. Chosen on the scenes
-#: benchmark's development split (docs/benchmark.md, "MoveNet on a crop around the last frame's
+#: benchmark's development split (docs/benchmark_log.md, "MoveNet on a crop around the last frame's
 #: person").
 CROP_MARGIN = 1.25
 #: Smallest crop side (pixels), so that a few keypoints close together still leave room.

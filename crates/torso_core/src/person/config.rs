@@ -43,7 +43,7 @@ pub struct PersonConfig {
     /// behind their surface than the shoulders, so a plane through the surface points leans its
     /// top away from the camera: each pair has its own depth.
     /// The defaults are the medians of those offsets for the measured (not completed) joints
-    /// on the scenes benchmark's development split (docs/benchmark.md), about the body's radius
+    /// on the scenes benchmark's development split (docs/benchmark_log.md), about the body's radius
     /// at the shoulder and the hip.
     pub surface_depth: [f64; 2],
 }

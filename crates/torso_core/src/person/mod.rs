@@ -34,7 +34,7 @@ pub const MAX_HORIZONS: usize = 32;
 /// further (forward, back, lying) has a normal that stands nearly upright, and a small error of
 /// the plane turns its azimuth by that error over the horizontal part's length: here more than
 /// twice as far. Chosen on the scenes benchmark's development draws among 75, 60 and 45 degrees
-/// (docs/benchmark.md, "people bent far from upright").
+/// (docs/benchmark_log.md, "people bent far from upright").
 pub const MIN_CONFIDENT_UPRIGHTNESS: f64 = 0.5;
 
 use crate::coco::{self, Joints, N_JOINTS, TORSO, TORSO_SIDES};
