@@ -20,6 +20,8 @@ from torsocast.datasets import cmu
 from torsocast.evaluation.scenes.oracle import Oracle, lift_at_true_pixels, put_joints_at_truth
 from torsocast.evaluation.scenes.plan import (
     FIRST_TURN_S,
+    PAUSING_MOTIONS,
+    STOP_RAMP_S,
     STOP_S,
     TURN_ANGLE_DEG,
     TURN_RATE_DEG,
@@ -50,6 +52,7 @@ from torsocast.synthetic.motions import Motion
 from torsocast.synthetic.scenes import (
     TURNING,
     TURNING_AND_STOPPING,
+    WALKING_AND_STOPPING,
     Actor,
     RenderedScene,
     SceneSpec,
@@ -179,6 +182,35 @@ def test_a_person_who_turns_and_stops_is_turned_from_rest_to_rest(standing):
         Actor("still", 0.0, 0.0, 0.3, (2.0, 0.5), turn=0.5, bursts=bursts)
 
 
+def test_a_walker_who_stops_slows_to_rest_stands_and_walks_on(standing):
+    # A person carried along +x at 1 m/s (the still pose moved steadily) who slows from 1.0 s
+    # over 0.5 s, stands 1 s and speeds up again over 0.5 s: the clip is held back by the ramp
+    # and the standing time together (1.5 s), the speed falls and rises smoothly (a minimum-jerk
+    # profile of it: at half speed half-way through each ramp), and the body stays put while it
+    # stands.
+    clip_time = np.arange(600) / 120.0
+    walker = Motion("walk", "test", standing.joints[:1] + clip_time[:, None, None] * [1.0, 0.0, 0.0], 120.0)
+    actor = Actor("walk", 0.0, 0.0, 0.0, (2.0, 0.0), pauses=((1.0, 0.5, 1.0),))
+    spec = SceneSpec("walk", "kinect_v2", 30.0, 1.0, -5.0, 4.0, (actor,), seed=1)
+    scene = RenderedScene(spec, {"walk": walker})
+    assert scene.category(0) == WALKING_AND_STOPPING
+    at = np.array([0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 4.0])
+    assert actor.clip_time(at) == pytest.approx([0.5, 1.0, 1.25, 1.25, 1.25, 1.5, 2.5], abs=1e-12)
+    t = np.array([0.5, 1.0, 1.25, 1.5, 2.0, 2.5, 2.75, 3.0, 4.0])
+    dt = 1e-4
+    speed = (actor.clip_time(t + dt) - actor.clip_time(t - dt)) / (2 * dt)
+    assert speed == pytest.approx([1.0, 1.0, 0.5, 0.0, 0.0, 0.0, 0.5, 1.0, 1.0], abs=1e-6)
+    centres = scene.truth_at(0, np.array([1.5, 2.0, 2.5]))[:, :2]
+    assert np.ptp(centres, axis=0) == pytest.approx([0.0, 0.0], abs=1e-2)  # a clip sample apart
+    for bad in ((1.0, 0.0, 1.0), (1.0, 0.5, -0.1), (1.0, float("nan"), 1.0), (1.0, 0.5)):
+        with pytest.raises(ValueError, match="a pause is"):
+            Actor("walk", 0.0, 0.0, 0.0, (2.0, 0.0), pauses=(bad,))  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="without overlapping"):
+        Actor("walk", 0.0, 0.0, 0.0, (2.0, 0.0), pauses=((1.0, 0.5, 1.0), (2.5, 0.5, 1.0)))
+    with pytest.raises(ValueError, match="not both"):
+        Actor("walk", 0.0, 0.0, 0.0, (2.0, 0.0), turn=0.5, pauses=((1.0, 0.5, 1.0),))
+
+
 def test_stopping_scenes_turn_their_people_within_the_drawn_ranges_and_leave_the_others_alone():
     # Drawn after the turning scenes, from their own seeds: the scenes before are drawn as they
     # were, and each person's turns lie in the ranges, one after another with a stop between.
@@ -204,9 +236,51 @@ def test_stopping_scenes_turn_their_people_within_the_drawn_ranges_and_leave_the
                 assert TURN_RATE_DEG[0] <= degrees / length <= TURN_RATE_DEG[1]
                 if np.isfinite(after):
                     assert STOP_S[0] <= after - start - length <= STOP_S[1]
-    assert Size(100, 6.0, 16, 16).scaled(50) == Size(50, 6.0, 8, 8)
-    with pytest.raises(ValueError, match="not both"):
+    assert Size(100, 6.0, 16, 16, 16).scaled(50) == Size(50, 6.0, 8, 8, 8)
+    with pytest.raises(ValueError, match="not several"):
         draw_scene(catalogue, 5, 7, size, turning=True, stopping=True)
+
+
+def test_pausing_scenes_stop_their_walkers_on_both_feet_within_the_drawn_ranges():
+    # Walkers (a clip whose feet step in turn: each ankle planted half the time, both at once
+    # only around every 0.5 s) of the pausing categories, drawn after the other kinds: each stop
+    # after a walk, with a ramp and a standing time in their ranges, coming to rest on a frame
+    # where both feet are planted.
+    catalogue = Catalogue("dev")
+    rate, frames = 100.0, 1200
+    t = np.arange(frames) / rate
+    joints = np.zeros((frames, 38, 3))
+    joints[:, :, 0] = t[:, None]  # the body walks along x at 1 m/s
+    for ankle, phase in ((cmu.LEFT_ANKLE, 0.0), (cmu.RIGHT_ANKLE, 0.5)):
+        # Each foot swings a metre in the first 0.4 s of its second and stands the rest, in
+        # turn: both stand still from 0.4 to 0.5 s and from 0.9 to 1.0 s of each second.
+        swing = np.clip((t - phase) % 1.0 / 0.4, 0.0, 1.0)
+        joints[:, ankle, 0] = np.floor(t - phase) + swing + phase
+    walk = Motion("walk", "cmu walking", joints, rate)
+    still = Motion("still", "h36m constrained", np.zeros((600, 38, 3)), 100.0)
+    catalogue.add("cmu walking", "walk", lambda: walk)
+    catalogue.add("h36m constrained", "still", lambda: still)
+    size = Size(scenes=2, duration=6.0, turning=1, stopping=1, pausing=2)
+    ankles = joints[:, [cmu.LEFT_ANKLE, cmu.RIGHT_ANKLE], 0]
+    planted = np.all(np.abs(np.gradient(ankles, 1 / rate, axis=0)) < 1e-9, axis=1)
+    assert walk.category in PAUSING_MOTIONS and still.category not in PAUSING_MOTIONS
+    stops = 0
+    for index in (4, 5):
+        spec = draw_scene(catalogue, index, 7, size, pausing=True)
+        assert 1 <= len(spec.actors) <= TURNING_PEOPLE
+        for actor in spec.actors:
+            assert actor.motion == "walk" and not actor.turn and not actor.bursts
+            end = -np.inf
+            for begin, ramp, hold in actor.pauses:
+                assert STOP_RAMP_S[0] <= ramp <= STOP_RAMP_S[1] and STOP_S[0] <= hold <= STOP_S[1]
+                assert begin > end and begin < size.duration
+                rest = int(round(float(actor.clip_time(begin + ramp + hold / 2)) * rate))
+                assert planted[rest], (begin, rest / rate)
+                end = begin + 2 * ramp + hold
+                stops += 1
+    assert stops >= 2
+    with pytest.raises(ValueError, match="not several"):
+        draw_scene(catalogue, 5, 7, size, stopping=True, pausing=True)
 
 
 def test_labels_show_whose_pixel_it_is_and_a_person_behind_another_is_hidden(standing):
@@ -831,21 +905,25 @@ def test_eval_scenes_quick_runs_and_its_numbers_come_back_for_the_seed(tmp_path,
     assert ("**Forecast intervals off calibration** in " in head) == bool(calibration["outside"])
     tables = report["tables"]
     assert tables["recovery"]["all"][0]["person_frames"] > 300
-    # Front/back flips: measured 2.1 % of this split's estimates on 2026-12-05 on an AMD EPYC
-    # with AVX-512 VNNI, with its scene of people turning and stopping (2.6 % without it on
+    # Front/back flips: measured 1.9 % of this split's estimates on 2026-12-05 on an AMD EPYC
+    # with AVX-512 VNNI, with its scenes of people turning and stopping and of walkers who stop
+    # (2.1 % before the walkers', 2.6 % before both on
     # 2026-12-04; 2.9 % when measured earlier that day, on another machine and earlier
     # code; 26.2 % before the bent-knees cue, the recent heading's side of the torso line and
     # MoveNet's crop; 11.6 % when last measured before, ahead of the later heading rules in
     # docs/benchmark_log.md; the target is 1 %). Twice the measured share leaves room for another
     # CPU's int8 kernels, not for a rule's loss.
     assert tables["recovery"]["all"][0]["flips"] < 0.06
-    # The headings a cue beside the labels confirms flip far less often (measured: 68.0 % of
-    # the estimates, flipped in none of them).
+    # The headings a cue beside the labels confirms flip far less often (measured: 60.1 % of
+    # the estimates, flipped in none of them; 68.0 % before the split gained its scene of a
+    # walker who stops, confirmed in 10.7 %: a slow Human3.6M walk seen by MoveNet, whose nose
+    # the pipeline does not use, standing with straight legs when it stops).
     everything = tables["recovery"]["all"][0]
-    assert everything["confident"] > 0.6 and everything["flips_confident"] < 0.6 * everything["flips"]
+    assert everything["confident"] > 0.5 and everything["flips_confident"] < 0.6 * everything["flips"]
     # The track's facing evidence grades the same trust (measured: under a quarter of a
-    # second's worth, 6.4 % of the estimates, flipped in 25.0 %; 2 s and more, 29.6 %, in none;
-    # 41.1 % before the split gained its scene of people turning and stopping).
+    # second's worth, 7.8 % of the estimates, flipped in 19.1 %; 2 s and more, 25.5 %, in none;
+    # 29.6 % before the split gained its scene of a walker who stops, 41.1 % before its scene of
+    # people turning and stopping).
     by_evidence = tables["flip_evidence"]
     estimated = round(everything["estimated"] * everything["person_frames"])
     assert sum(r["estimates"] for r in by_evidence) == estimated
@@ -859,6 +937,7 @@ def test_eval_scenes_quick_runs_and_its_numbers_come_back_for_the_seed(tmp_path,
         "h36m high variance",
         TURNING,
         TURNING_AND_STOPPING,
+        WALKING_AND_STOPPING,
     }
     # The quick split's ninth scene is a turning one: its people turn on the spot, and their
     # heading forecast continues the turn (measured: 36.3 / 92.1 degrees at 0.4 / 1 s against
@@ -870,7 +949,8 @@ def test_eval_scenes_quick_runs_and_its_numbers_come_back_for_the_seed(tmp_path,
         assert row["forecast_elevation_median"] == pytest.approx(row["hold_elevation_median"], abs=0.1)
     # Over all motions the forecast errs less than holding still and than constant velocity, on
     # average at every horizon, and the heading in the median too (the centre's median 2 s ahead
-    # is about holding's: measured 14.6 cm against 13.3 held; on the report split it loses to
+    # is not: measured 25.9 cm against 20.0 held, 14.6 against 13.3 before the split gained its
+    # walker who stops, whose walk is continued past the stop; on the report split it loses to
     # holding in several motions and views, among the losses the report lists first).
     for row in tables["forecasts"]["all"]:
         for stat, component in (("mean", "centre"), ("mean", "azimuth"), ("median", "azimuth")):
@@ -889,7 +969,7 @@ def test_eval_scenes_quick_runs_and_its_numbers_come_back_for_the_seed(tmp_path,
     assert "By torso's tilt from upright" in text and by_tilt[0]["group"] == "under 15 deg"
     assert sum(r["person_frames"] for r in by_tilt) == tables["recovery"]["all"][0]["person_frames"]
     # Nearly every forecast comes with an 80 % interval, and over all motions the truth falls in
-    # it about that often (measured on this split: about 99 % with one, 73.4 to 87.7 % inside per
+    # it about that often (measured on this split: about 99 % with one, 72.9 to 88.3 % inside per
     # component and horizon; by motion the report split's cells are in docs/benchmark.md). The
     # truth's margin gone wrong by a factor of two leaves this band (half: 59 to 69 %; double:
     # 78 to 94 %).

@@ -384,7 +384,7 @@ def main(argv: list[str] | None = None) -> int:
     sc.add_argument(
         "--scenes",
         type=int,
-        help="number of scenes (default: 8 with --quick, else 100), and the on-the-spot ones in proportion",
+        help="number of scenes (default: 8 with --quick, else 100), and the other kinds in proportion",
     )
     sc.add_argument(
         "--out", default="eval_scenes", help="folder for report.md/.json, the records and figures"

@@ -31,6 +31,9 @@ TURNING = "turning on the spot"
 #: Motion category of a person who turns on the spot and stops, again and again
 #: (:attr:`Actor.bursts`), whatever the clip.
 TURNING_AND_STOPPING = "turning and stopping"
+#: Motion category of a person whose walk stops and goes on, again and again
+#: (:attr:`Actor.pauses`), whatever the clip.
+WALKING_AND_STOPPING = "walking and stopping"
 
 
 def torso_truth(joints: F64) -> F64:
@@ -48,8 +51,36 @@ def burst_yaw(bursts: tuple[tuple[float, float, float], ...], t: F64) -> F64:
     ends at rest as a person's turn does."""
     out = np.zeros_like(t, dtype=np.float64)
     for start, duration, angle in bursts:
-        u = np.clip((t - start) / duration, 0.0, 1.0)
-        out += angle * u**3 * (10.0 - 15.0 * u + 6.0 * u**2)
+        out += angle * _min_jerk((t - start) / duration)
+    return out
+
+
+def _min_jerk(u: F64) -> F64:
+    """The minimum-jerk profile from 0 to 1 over ``u`` in 0..1 (clipped outside)."""
+    u = np.clip(u, 0.0, 1.0)
+    return u**3 * (10.0 - 15.0 * u + 6.0 * u**2)  # type: ignore[no-any-return]
+
+
+def _min_jerk_area(u: F64) -> F64:
+    """The integral of :func:`_min_jerk` from 0 to ``u`` in 0..1 (half at 1)."""
+    u = np.clip(u, 0.0, 1.0)
+    return u**4 * (2.5 - 3.0 * u + u**2)  # type: ignore[no-any-return]
+
+
+def pause_lag(pauses: tuple[tuple[float, float, float], ...], t: F64) -> F64:
+    """How far ``pauses`` (scene time each starts, its ramp and its standing time: s) have held
+    a clip back by scene times ``t`` (s): each pause slows the clip's playback from full speed
+    to rest over its ramp (a minimum-jerk profile of the speed, as a walker's stop takes about a
+    step), holds it for the standing time and speeds it up again over the ramp. A whole pause
+    holds the clip back by its ramp plus its standing time."""
+    t = np.asarray(t, dtype=np.float64)
+    out = np.zeros_like(t)
+    for begin, ramp, hold in pauses:
+        slowing = ramp * _min_jerk_area((t - begin) / ramp)
+        held = np.clip(t - begin - ramp, 0.0, hold)
+        u = (t - begin - ramp - hold) / ramp
+        going = ramp * (np.clip(u, 0.0, 1.0) - _min_jerk_area(u))
+        out += slowing + held + going
     return out
 
 
@@ -69,7 +100,11 @@ class Actor:
     (the clip's own walking and turning are kept relative to the pelvis). With ``bursts`` (scene
     time each starts, its duration and angle: s, s, rad), the same on the spot, turned by ``yaw``
     before the first burst and by each burst in turn (:func:`burst_yaw`), standing between them
-    (a ``turn`` rate or ``bursts``, not both)."""
+    (a ``turn`` rate or ``bursts``, not both).
+
+    With ``pauses`` (scene time each starts, its ramp and its standing time: s), the clip's
+    playback slows to rest, holds and goes on again (:func:`pause_lag`): a walker who stops
+    and walks on, the body still where it stopped (not with a ``turn`` rate or ``bursts``)."""
 
     motion: str
     start: float
@@ -81,13 +116,30 @@ class Actor:
     # (the scenes benchmark's cache names files by the spec's repr; it adds the turn itself).
     turn: float = field(default=0.0, repr=False)
     bursts: tuple[tuple[float, float, float], ...] = field(default=(), repr=False)
+    pauses: tuple[tuple[float, float, float], ...] = field(default=(), repr=False)
 
     def __post_init__(self) -> None:
         if self.turn and self.bursts:
             raise ValueError("an actor turns steadily (turn) or in bursts (bursts), not both")
+        if self.pauses and (self.turn or self.bursts):
+            raise ValueError(
+                "an actor walks and stops (pauses) or turns on the spot (turn, bursts), not both"
+            )
         for burst in self.bursts:
             if len(burst) != 3 or not all(np.isfinite(burst)) or not burst[1] > 0.0:
                 raise ValueError(f"a burst is (start, duration > 0, angle), finite; got {burst!r}")
+        end = -np.inf
+        for pause in self.pauses:
+            if len(pause) != 3 or not all(np.isfinite(pause)) or not (pause[1] > 0.0 and pause[2] >= 0.0):
+                raise ValueError(f"a pause is (start, ramp > 0, standing time >= 0), finite; got {pause!r}")
+            if pause[0] < end:
+                raise ValueError(f"pauses must follow one another without overlapping; got {self.pauses!r}")
+            end = pause[0] + 2 * pause[1] + pause[2]
+
+    def clip_time(self, t: float | F64) -> F64:
+        """The clip's time (s) this actor shows at scene time(s) ``t``."""
+        t = np.asarray(t, dtype=np.float64)
+        return t + self.start - pause_lag(self.pauses, t)  # type: ignore[no-any-return]
 
     def place(self, motion: Motion) -> F64:
         """The clip's joints ``(frames, 38, 3)`` where this actor puts them."""
@@ -162,15 +214,19 @@ class RenderedScene:
     def sample(self, actor: int, t: float | F64) -> npt.NDArray[np.intp]:
         """The clip sample actor ``actor`` shows at scene time ``t``; -1 where it is not there."""
         clip = self._clip(actor)
-        k = np.rint((np.asarray(t) + self.spec.actors[actor].start) * clip.rate_hz).astype(np.intp)
+        k = np.rint(self.spec.actors[actor].clip_time(t) * clip.rate_hz).astype(np.intp)
         return np.where((k >= 0) & (k < len(clip.joints)), k, -1)
 
     def category(self, actor: int) -> str:
-        """The motion category of ``actor``: its clip's, :data:`TURNING` or
-        :data:`TURNING_AND_STOPPING`."""
+        """The motion category of ``actor``: its clip's, :data:`TURNING`,
+        :data:`TURNING_AND_STOPPING` or :data:`WALKING_AND_STOPPING`."""
         clip = self._clip(actor)
         person = self.spec.actors[actor]
-        return TURNING if person.turn else TURNING_AND_STOPPING if person.bursts else clip.category
+        if person.turn:
+            return TURNING
+        if person.bursts:
+            return TURNING_AND_STOPPING
+        return WALKING_AND_STOPPING if person.pauses else clip.category
 
     def truth_at(self, actor: int, t: float | F64) -> F64:
         """True torso pose(s) of ``actor`` at scene time(s) ``t``: ``(..., 5)``, NaN where absent."""

@@ -8,7 +8,8 @@ heading and placed 1 to 6 m from the camera inside its field of view, never near
 :data:`MIN_SEPARATION` to another person at the same instant. After these come a few scenes of
 one to three people turning on the spot at a steady rate (the case of a steady turn, where a
 heading forecast has a real trend to continue), then as many of people who turn on the spot and
-stop, again and again (as people turn to look at something: a trend that ends).
+stop, again and again (as people turn to look at something: a trend that ends), then as many of
+walkers who stop and walk on (as people walk up to something, or to the robot: a walk that ends).
 """
 
 from __future__ import annotations
@@ -60,28 +61,39 @@ TURNING_MOTIONS = ("h36m constrained", "h36m high variance")
 TURN_ANGLE_DEG = (45.0, 180.0)
 STOP_S = (0.5, 3.0)
 FIRST_TURN_S = (-1.0, 2.0)
+#: Scenes of walkers who stop and walk on: one to three people, each a clip of these categories
+#: (people who walk), whose walk slows to rest over a ramp drawn from :data:`STOP_RAMP_S` (s; a
+#: walker stops within a step or two), stands for a time drawn from :data:`STOP_S` and goes on
+#: the same way; each stop comes after a walk of a time drawn from :data:`WALK_S` (s) and ends
+#: with both feet on the ground (the clip's nearest frame where both ankles move slowest).
+PAUSING_MOTIONS = ("cmu walking", "h36m pedestrian")
+STOP_RAMP_S = (0.4, 0.8)
+WALK_S = (0.5, 2.5)
 
 
 @dataclass(frozen=True)
 class Size:
     """How much a run renders: ``scenes`` of people as their clips move them, then ``turning``
-    scenes of people turning on the spot, then ``stopping`` scenes of people who turn and stop
-    (each kind numbered after the ones before, so that adding it left them as they were)."""
+    scenes of people turning on the spot, then ``stopping`` scenes of people who turn and stop,
+    then ``pausing`` scenes of walkers who stop and walk on (each kind numbered after the ones
+    before, so that adding it left them as they were)."""
 
     scenes: int
     duration: float
     """Seconds per scene."""
     turning: int = 0
     stopping: int = 0
+    pausing: int = 0
 
     def scaled(self, scenes: int) -> Size:
-        """``scenes`` scenes, with turning and stopping scenes in the same proportion."""
+        """``scenes`` scenes, with the other kinds in the same proportion."""
         share = scenes / self.scenes
-        return Size(scenes, self.duration, round(self.turning * share), round(self.stopping * share))
+        kinds = (round(n * share) for n in (self.turning, self.stopping, self.pausing))
+        return Size(scenes, self.duration, *kinds)
 
 
-FULL = Size(scenes=100, duration=6.0, turning=16, stopping=16)
-QUICK = Size(scenes=8, duration=4.0, turning=1, stopping=1)
+FULL = Size(scenes=100, duration=6.0, turning=16, stopping=16, pausing=16)
+QUICK = Size(scenes=8, duration=4.0, turning=1, stopping=1, pausing=1)
 
 #: Where the data is looked for when no folder is given.
 CMU_ENV, H36M_ENV = "TORSOCAST_CMU", "TORSOCAST_H36M"
@@ -180,7 +192,7 @@ class Catalogue:
 
 def _pelvis_path(actor: Actor, motion: Motion, times: np.ndarray) -> np.ndarray:
     """The actor's pelvis on the floor at scene ``times``, NaN where it is not in the scene."""
-    k = np.rint((times + actor.start) * motion.rate_hz).astype(int)
+    k = np.rint(actor.clip_time(times) * motion.rate_hz).astype(int)
     ok = (k >= 0) & (k < len(motion.joints))
     pelvis = actor.place(motion)[np.clip(k, 0, len(motion.joints) - 1), cmu.PELVIS, :2]
     return np.where(ok[:, None], pelvis, np.nan)
@@ -202,6 +214,39 @@ def _bursts(rng: np.random.Generator, duration: float) -> tuple[tuple[float, flo
     return tuple(out)
 
 
+def _both_feet_down(motion: Motion) -> np.ndarray:
+    """Per clip frame, the faster of the two ankles' speeds over the ground (m/s): where it is
+    least, both feet are planted (a walker's double support), a pose a person stands in."""
+    ankles = motion.joints[:, [cmu.LEFT_ANKLE, cmu.RIGHT_ANKLE], :2]
+    speed = np.linalg.norm(np.gradient(ankles, 1.0 / motion.rate_hz, axis=0), axis=-1)
+    return speed.max(axis=1)  # type: ignore[no-any-return]
+
+
+def _pauses(
+    rng: np.random.Generator, motion: Motion, start: float, duration: float
+) -> tuple[tuple[float, float, float], ...]:
+    """Stops until ``duration`` of a walker whose clip starts ``start`` s in: (start, ramp,
+    standing time) of each (s), each coming to rest on the clip frame within a quarter of a
+    second of the drawn one where both feet move slowest."""
+    feet = _both_feet_down(motion)
+    window = int(round(0.25 * motion.rate_hz))
+    out: list[tuple[float, float, float]] = []
+    # The first stop after a walk from when the person appears (a clip may start late).
+    begin, lag = max(0.0, -start) + rng.uniform(*WALK_S), 0.0
+    while begin < duration:
+        ramp, hold = rng.uniform(*STOP_RAMP_S), rng.uniform(*STOP_S)
+        # The clip time the walker comes to rest at: half the ramp after the slowing starts.
+        k = int(round((start + begin - lag + ramp / 2) * motion.rate_hz))
+        if not window <= k < len(feet) - window:
+            break  # the clip ends (or has not started) there: walk on as recorded
+        k += int(np.argmin(feet[k - window : k + window + 1])) - window
+        begin = k / motion.rate_hz - ramp / 2 - start + lag
+        out.append((float(begin), float(ramp), float(hold)))
+        lag += ramp + hold
+        begin += 2 * ramp + hold + rng.uniform(*WALK_S)
+    return tuple(out)
+
+
 def draw_scene(
     catalogue: Catalogue,
     index: int,
@@ -210,18 +255,24 @@ def draw_scene(
     people: int | None = None,
     turning: bool = False,
     stopping: bool = False,
+    pausing: bool = False,
 ) -> SceneSpec:
     """Scene ``index`` of a run with ``seed``: the same numbers give the same scene. A
     ``turning`` scene's people turn on the spot (:data:`TURN_RATE_DEG`), a ``stopping`` scene's
-    turn on the spot and stop (:data:`TURN_ANGLE_DEG`, :data:`STOP_S`); not both."""
-    if turning and stopping:
-        raise ValueError("a scene's people turn steadily (turning) or turn and stop (stopping), not both")
+    turn on the spot and stop (:data:`TURN_ANGLE_DEG`, :data:`STOP_S`), a ``pausing`` scene's
+    walk and stop (:data:`PAUSING_MOTIONS`, :data:`STOP_RAMP_S`, :data:`STOP_S`,
+    :data:`WALK_S`); one kind at most."""
+    if turning + stopping + pausing > 1:
+        raise ValueError(
+            "a scene's people turn steadily (turning), turn and stop (stopping) or walk and stop "
+            "(pausing): one kind, not several"
+        )
     on_the_spot = turning or stopping
     rng = np.random.default_rng([seed, index])
     sensor = sorted(SENSORS)[int(rng.integers(len(SENSORS)))]
     fps = FRAME_RATES[int(rng.integers(len(FRAME_RATES)))]
     height, tilt = rng.uniform(*HEIGHT_M), rng.uniform(*TILT_DEG)
-    most = TURNING_PEOPLE if on_the_spot else MAX_PEOPLE
+    most = TURNING_PEOPLE if on_the_spot or pausing else MAX_PEOPLE
     if people is None:
         people = 1 if rng.random() < SINGLE_SHARE else int(rng.integers(2, most + 1))
     intr = SENSORS[sensor].intrinsics
@@ -232,7 +283,8 @@ def draw_scene(
     for _ in range(people):
         for _attempt in range(30):
             avoid = frozenset(a.motion for a in actors)
-            motion = catalogue.draw(rng, avoid, TURNING_MOTIONS if on_the_spot else None)
+            kinds = TURNING_MOTIONS if on_the_spot else PAUSING_MOTIONS if pausing else None
+            motion = catalogue.draw(rng, avoid, kinds)
             spare = motion.duration - size.duration
             # A clip shorter than the scene starts at a random moment of it (the person appears).
             start = rng.uniform(0.0, spare) if spare >= 0 else -rng.uniform(0.0, -spare)
@@ -248,6 +300,7 @@ def draw_scene(
                 random_outfit(rng),
                 turn=_turn_rate(rng) if turning else 0.0,
                 bursts=_bursts(rng, size.duration) if stopping else (),
+                pauses=_pauses(rng, motion, float(start), size.duration) if pausing else (),
             )
             path = _pelvis_path(actor, motion, times)
             with np.errstate(invalid="ignore"):

@@ -72,6 +72,7 @@ class Benchmark:
 def _cache_file(cache: Path, spec: SceneSpec, model: KeypointModel) -> Path:
     turns = [a.turn for a in spec.actors if a.turn]  # not in the repr (see Actor.turn)
     bursts = [a.bursts for a in spec.actors if a.bursts]
+    pauses = [a.pauses for a in spec.actors if a.pauses]
     variant = getattr(model, "variant", "")
     variant = f" {variant}" if variant else ""
     # "lifted": the joints before the tracker dropped any (recordings of the joints as the
@@ -79,6 +80,7 @@ def _cache_file(cache: Path, spec: SceneSpec, model: KeypointModel) -> Path:
     text = f"{spec!r} {type(model).__name__} {model.input_size}{variant} lifted"
     text += f" turns {turns}" if turns else ""
     text += f" bursts {bursts}" if bursts else ""
+    text += f" pauses {pauses}" if pauses else ""
     key = hashlib.sha256(text.encode()).hexdigest()[:16]
     return cache / f"{spec.name}-{key}.npz"
 
@@ -193,6 +195,8 @@ def evaluate(
     specs += [draw_scene(catalogue, size.scenes + i, seed, size, turning=True) for i in range(size.turning)]
     first = size.scenes + size.turning
     specs += [draw_scene(catalogue, first + i, seed, size, stopping=True) for i in range(size.stopping)]
+    first += size.stopping
+    specs += [draw_scene(catalogue, first + i, seed, size, pausing=True) for i in range(size.pausing)]
     bench = Benchmark(catalogue.split, seed, quick, [], notes=catalogue.notes)
     bench.models = {"one person": "MoveNet Lightning int8 (bundled)", "several people": models.multi_name}
     if models.multi is None:
