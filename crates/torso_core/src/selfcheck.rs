@@ -27,7 +27,9 @@
 //! horizon's span as one (overlapping forecasts err together). A detector's noise makes most fitted
 //! trends of an angle, or of a person who stays in place, a guess, and a guess that wins a few
 //! recent scores by chance would otherwise be continued. The centre of a steady walk is the
-//! exception: it mixes its trends freely, one mix for both its coordinates over the ground.
+//! exception: it mixes its trends freely, one mix for both its coordinates over the ground. A
+//! walk that has ended ([`Trend::walk_ended`]) is held still over the ground, whatever its
+//! scores: they are of the walk.
 
 use crate::error::{check_positive, Error, Result};
 use crate::quantile::RecentQuantile;
@@ -150,6 +152,8 @@ pub struct SelfCheck {
     /// seconds of history it was seen over.
     steady: [bool; 5],
     seen: f64,
+    /// Whether the track's history holds a walk that has ended ([`Trend::walk_ended`]).
+    walk_ended: bool,
 }
 
 impl SelfCheck {
@@ -171,6 +175,7 @@ impl SelfCheck {
             fresh: [false; H],
             steady: [false; 5],
             seen: 0.0,
+            walk_ended: false,
         })
     }
 
@@ -271,6 +276,16 @@ impl SelfCheck {
     /// Before that, the centre takes a shorter horizon's and the angles their prior, and before
     /// any check every component its prior.
     pub fn weights(&self, horizon: f64) -> [[f64; CANDIDATES]; 5] {
+        let mut w = self.mixed_weights(horizon);
+        if self.walk_ended {
+            w[0] = HOLD_ONLY;
+            w[1] = HOLD_ONLY;
+        }
+        w
+    }
+
+    /// [`weights`](Self::weights) before a walk that has ended is held.
+    fn mixed_weights(&self, horizon: f64) -> [[f64; CANDIDATES]; 5] {
         let nearest = self.nearest(horizon);
         match self.checked(horizon) {
             Some(k) if k == nearest => self.mix(k),
@@ -337,6 +352,14 @@ impl SelfCheck {
     /// half of the recent scores at checked horizon `k`, scored a few times.
     fn turn_came_true(&self, k: usize) -> bool {
         self.scored[k] >= MIN_SCORED && self.turn_wins[k] >= 0.5 * self.scored[k]
+    }
+
+    /// Tells the check what the line through the track's history shows: which components
+    /// move steadily, how many seconds of history it holds and whether a walk in it has ended
+    /// ([`Trend::steady`], [`Trend::seen`], [`Trend::walk_ended`]).
+    pub fn set_trend(&mut self, trend: &Trend) {
+        self.set_steady(trend.steady(), trend.seen);
+        self.walk_ended = trend.walk_ended();
     }
 
     /// Tells the check which components of the track's history move steadily
@@ -506,13 +529,16 @@ impl SelfCheck {
         self.tails = [[RecentQuantile::default(); 5]; H];
         self.steady = [false; 5];
         self.seen = 0.0;
+        self.walk_ended = false;
         self.mix = [HOLD_ALL; H];
         self.fresh = [false; H];
     }
 }
 
+/// One component's weights that hold it still.
+const HOLD_ONLY: [f64; CANDIDATES] = [1.0, 0.0, 0.0, 0.0];
 /// Every component's prior where nothing moves steadily: holding still.
-const HOLD_ALL: [[f64; CANDIDATES]; 5] = [[1.0, 0.0, 0.0, 0.0]; 5];
+const HOLD_ALL: [[f64; CANDIDATES]; 5] = [HOLD_ONLY; 5];
 
 /// The candidates a component may mix, as a bit set: all four for the centre and the azimuth
 /// (a walk, a steady turn); the elevation holds still. A torso's pitch has no trend a track
@@ -616,7 +642,6 @@ fn quadratic(s: &[[f64; CANDIDATES]; CANDIDATES], w: &[f64; CANDIDATES]) -> f64 
 #[cfg(test)]
 mod tests {
     use super::*;
-    const HOLD_ONLY: [f64; CANDIDATES] = [1.0, 0.0, 0.0, 0.0];
 
     #[test]
     fn the_grid_rate_s_limit_is_spelled_out_as_the_constants_set_it() {
@@ -751,6 +776,45 @@ mod tests {
             assert_eq!(turn.weights(h)[AZIMUTH], [0.0, 0.0, 0.0, 1.0], "{h}");
             assert_eq!(level.weights(h)[AZIMUTH], HOLD_ONLY, "{h}");
         }
+    }
+
+    #[test]
+    fn a_walk_that_has_ended_is_held_over_the_ground_whatever_its_scores() {
+        // Two seconds of a walk along x whose constant velocity came true: the mix continues it.
+        let mut check = SelfCheck::new(25.0).unwrap();
+        check.set_steady([true, true, false, false, false], 2.0);
+        for k in 0..60 {
+            let t = k as f64 / 25.0;
+            let sample = [t, 0.0, 1.0, 0.0, 1.5];
+            let walked = HORIZONS.map(|h| [t + h, 0.0, 1.0, 0.0, 1.5]);
+            let held = HORIZONS.map(|_| sample);
+            check.record(t, sample, &held, &held, &walked);
+        }
+        assert_eq!(check.weights(1.0)[0], [0.0, 0.0, 0.0, 1.0]);
+        // Its history's last moments show it has stopped: held over the ground, the height
+        // and the angles left as they were.
+        let stopped = {
+            let mut f = crate::Forecaster::new(crate::ForecasterConfig::default()).unwrap();
+            for k in 0..50 {
+                let x = (k as f64).min(38.0) / 25.0;
+                f.update([x, 0.0, 1.0, 0.0, 1.5], k as f64 / 25.0, 1.0)
+                    .unwrap();
+            }
+            Trend::of(&f)
+        };
+        assert!(stopped.walk_ended());
+        let before = check.weights(1.0);
+        check.set_trend(&stopped);
+        for h in HORIZONS {
+            let w = check.weights(h);
+            assert_eq!((w[0], w[1]), (HOLD_ONLY, HOLD_ONLY), "{h}");
+            assert_eq!(w[2..], before[2..], "{h}");
+        }
+        // Walking on again: the scores decide once more.
+        let mut going = stopped;
+        going.recent_speed = going.rate[0];
+        check.set_trend(&going);
+        assert_eq!(check.weights(1.0)[0], [0.0, 0.0, 0.0, 1.0]);
     }
 
     #[test]

@@ -10,7 +10,9 @@
 //! A walk continued along the line goes straight on; people walk in curves, and they face where
 //! they walk, so a torso turning steadily while its path bends the same way bends the line's
 //! continuation with it ([`Trend::walk_turn`]), and a line through the centre that runs across
-//! the torso is no walk ([`MAX_WALK_ACROSS`]).
+//! the torso is no walk ([`MAX_WALK_ACROSS`]). People also stop, and a walk that has ended stays
+//! in the history's line for as long as the history holds it; the line through the history's
+//! last moments tells ([`Trend::walk_ended`]).
 
 use crate::forecaster::Forecaster;
 use crate::{Pose, AZIMUTH, HEIGHT};
@@ -51,6 +53,18 @@ pub const MAX_WALK_ACROSS: f64 = FRAC_PI_3;
 /// through less of the heading than that can take the twist for a turn (measured on the scenes
 /// benchmark's development split: docs/benchmark_log.md).
 pub const MIN_WALK_TURN_SEEN: f64 = 1.0;
+
+/// Seconds at the end of the history whose line tells whether a walk goes on
+/// ([`WALK_GOES_ON`]): at least four frames of the slowest camera rate the scenes benchmark has
+/// (10 frames per second), less than a walker's step.
+pub const RECENT_WALK_S: f64 = 0.4;
+
+/// Smallest share of a walk's speed over the history that the line through its last
+/// [`RECENT_WALK_S`] must keep for the walk to count as going on. A walker's pace varies within
+/// a stride and along a bend by far less; one that has stopped, or is stopping, keeps next to
+/// none. Chosen on the scenes benchmark's development split, where a fifth more or less moved
+/// little (docs/benchmark_log.md, "walkers who stop").
+pub const WALK_GOES_ON: f64 = 0.5;
 
 /// The residuals' lag-one autocorrelation is taken at most this: near one, the variance factor
 /// `(1 + ρ) / (1 - ρ)` of a mean of correlated residuals grows without bound.
@@ -97,6 +111,9 @@ pub struct Trend {
     /// history too short to fit or holding a front/back flip ([`flipped`](Self::flipped)), whose
     /// mean lies between the two sides.
     pub torso_line: Option<f64>,
+    /// Speed over the ground (m/s) of the line through the history's last [`RECENT_WALK_S`]
+    /// (all of it where shorter).
+    pub recent_speed: f64,
 }
 
 impl Trend {
@@ -186,7 +203,21 @@ impl Trend {
             }),
             walk_turn: 0.0,
             torso_line: (!flipped).then_some(mean[AZIMUTH]),
+            recent_speed: 0.0,
         };
+        // The line through the last samples over the ground, on their own centred index.
+        let m = ((RECENT_WALK_S * rate_hz).round() as usize).clamp(2, n);
+        let (recent_centre, recent_stt) = (
+            (m - 1) as f64 / 2.0,
+            m as f64 * ((m * m) as f64 - 1.0) / 12.0,
+        );
+        let mut recent = [0.0; 2];
+        for i in n - m..n {
+            let (dt, p) = ((i + m - n) as f64 - recent_centre, sample(i));
+            recent[0] += dt * p[0];
+            recent[1] += dt * p[1];
+        }
+        trend.recent_speed = recent[0].hypot(recent[1]) / recent_stt * rate_hz;
         // The path's turn rate: velocity x acceleration over speed squared, the acceleration
         // twice the quadratic term (per sample², hence rate² per s²).
         let [vx, vy] = [trend.rate[0], trend.rate[1]];
@@ -270,18 +301,35 @@ impl Trend {
     /// continue for seconds (held still instead, no motion's forecasts on the scenes
     /// benchmark's development split got worse; docs/benchmark_log.md).
     pub fn steady(&self) -> [bool; 5] {
-        let [vx, vy] = [self.rate[0], self.rate[1]];
-        let along_torso = self
-            .torso_line
-            .is_none_or(|line| (vy.atan2(vx) - line).cos().abs() >= MAX_WALK_ACROSS.cos());
-        let walking = vx.hypot(vy) >= MIN_WALK_SPEED
-            && self.significance[0].hypot(self.significance[1]) >= STEADY_CENTRE
-            && along_torso;
+        let walking = self.walk_seen() && !self.walk_ended();
         std::array::from_fn(|c| match c {
             HEIGHT => false,
             0 | 1 => walking,
             _ => self.significance[c] >= STEADY && !(c == AZIMUTH && self.flipped),
         })
+    }
+}
+
+impl Trend {
+    /// Whether the history's line over the ground is a walk (see [`steady`](Self::steady)),
+    /// going on or not.
+    fn walk_seen(&self) -> bool {
+        let [vx, vy] = [self.rate[0], self.rate[1]];
+        let along_torso = self
+            .torso_line
+            .is_none_or(|line| (vy.atan2(vx) - line).cos().abs() >= MAX_WALK_ACROSS.cos());
+        vx.hypot(vy) >= MIN_WALK_SPEED
+            && self.significance[0].hypot(self.significance[1]) >= STEADY_CENTRE
+            && along_torso
+    }
+
+    /// Whether the history holds a walk that has ended: its line over the ground a walk, the
+    /// line through its last [`RECENT_WALK_S`] slower than [`WALK_GOES_ON`] of it. The walk is
+    /// then neither steady nor continued ([`crate::selfcheck`] holds the centre still over the
+    /// ground): people stop where they were going, and a walk continued past its stop errs by
+    /// its speed times the horizon, where holding errs by the few steps of the stop.
+    pub fn walk_ended(&self) -> bool {
+        self.walk_seen() && self.recent_speed < WALK_GOES_ON * self.rate[0].hypot(self.rate[1])
     }
 }
 
@@ -499,6 +547,39 @@ mod tests {
         let flipped = line(FRAC_PI_2, true);
         assert!(flipped.flipped && flipped.torso_line.is_none());
         assert_eq!(flipped.steady()[..2], [true, true]);
+    }
+
+    #[test]
+    fn a_walk_that_has_stopped_is_no_longer_steady() {
+        // 1.5 s of a walk at 1 m/s along x, then `still` samples standing where it stopped (the
+        // speed falling over 0.2 s), with a few millimetres of jitter; the torso faces the way.
+        let walk = |still: usize| {
+            let mut x = 0.0;
+            history((0..38 + still).map(move |k| {
+                let speed = (1.0 - (k as f64 - 37.0).max(0.0) / 5.0).max(0.0);
+                x += speed / 25.0;
+                let jitter = 0.003 * [1.0, -1.0, 0.5, 0.0][k % 4];
+                [x + jitter, jitter, 1.0, 0.0, 1.5]
+            }))
+        };
+        let going = Trend::of(&walk(0));
+        assert!(going.steady()[0] && !going.walk_ended(), "{going:?}");
+        assert!((going.recent_speed - 1.0).abs() < 0.05);
+        // Half a second after the stop the history's line still says a walk (it holds a
+        // second and a half of it), its last 0.4 s do not: the walk has ended, and is held.
+        let stopped = Trend::of(&walk(12));
+        assert!(stopped.rate[0] > 0.5 && stopped.significance[0] > STEADY_CENTRE);
+        assert!(stopped.walk_ended() && stopped.steady()[..2] == [false, false]);
+        // A walk round a bend keeps its pace, whichever way its last moments run.
+        let (bend, _) = circle(50, 1.0);
+        let trend = Trend::of(&bend);
+        assert!(!trend.walk_ended() && trend.steady()[0]);
+        // Standing still throughout is no walk, ended or going on.
+        let standing = Trend::of(&history((0..50).map(|k| {
+            let jitter = 0.003 * [1.0, -1.0, 0.5, 0.0][k % 4];
+            [jitter, jitter, 1.0, 0.0, 1.5]
+        })));
+        assert!(!standing.walk_ended() && !standing.steady()[0]);
     }
 
     /// `n` samples at 25 Hz of a walk at 1 m/s round a circle of radius 2 m, counter-clockwise,

@@ -386,7 +386,7 @@ impl Person {
             let velocity = CHECK_HORIZONS.map(|h| trend.continued(&sample, h));
             // Recorded with the mix the track's last forecast gave, then told what moves now.
             check.record(t, sample, &damped, &plain, &velocity);
-            check.set_steady(trend.steady(), trend.seen);
+            check.set_trend(&trend);
         }
     }
 
