@@ -62,8 +62,9 @@ pub const RECENT_WALK_S: f64 = 0.4;
 /// Smallest share of a walk's speed over the history that the line through its last
 /// [`RECENT_WALK_S`] must keep for the walk to count as going on. A walker's pace varies within
 /// a stride and along a bend by far less; one that has stopped, or is stopping, keeps next to
-/// none. Chosen on the scenes benchmark's development split, where a fifth more or less moved
-/// little (docs/benchmark_log.md, "walkers who stop").
+/// none. Chosen on the scenes benchmark's development split, where 0.7 held a few more stops
+/// but cost Human3.6M's pedestrians, who walk in loops, on one draw of three
+/// (docs/benchmark_log.md, "walkers who stop").
 pub const WALK_GOES_ON: f64 = 0.5;
 
 /// The residuals' lag-one autocorrelation is taken at most this: near one, the variance factor
@@ -293,7 +294,8 @@ impl Trend {
     /// Per component, whether it moves steadily. The centre over the ground, both coordinates
     /// together: its velocity [`STEADY_CENTRE`] standard errors from zero, at a walk's pace
     /// ([`MIN_WALK_SPEED`]), along the torso's normal line within [`MAX_WALK_ACROSS`] either
-    /// way (where the history has one); a walk is continued whole or not at all. The angles:
+    /// way (where the history has one), and not ended ([`walk_ended`](Self::walk_ended)); a
+    /// walk is continued whole or not at all. The angles:
     /// their rate [`STEADY`] standard errors from zero, and for the azimuth, with no flip in the
     /// history.
     /// The centre's height never does: a torso rises or sinks only as far as the body lets it
@@ -308,9 +310,7 @@ impl Trend {
             _ => self.significance[c] >= STEADY && !(c == AZIMUTH && self.flipped),
         })
     }
-}
 
-impl Trend {
     /// Whether the history's line over the ground is a walk (see [`steady`](Self::steady)),
     /// going on or not.
     fn walk_seen(&self) -> bool {
