@@ -228,8 +228,10 @@ def _pauses(
     """Stops until ``duration`` of a walker whose clip starts ``start`` s in: (start, ramp,
     standing time) of each (s), each coming to rest on the clip frame within a quarter of a
     second of the drawn one where both feet move slowest."""
-    feet = _both_feet_down(motion)
     window = int(round(0.25 * motion.rate_hz))
+    if len(motion.joints) <= 2 * window:
+        return ()  # too short a clip to stop in
+    feet = _both_feet_down(motion)
     out: list[tuple[float, float, float]] = []
     # The first stop after a walk from when the person appears (a clip may start late).
     begin, lag = max(0.0, -start) + rng.uniform(*WALK_S), 0.0
