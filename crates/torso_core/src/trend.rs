@@ -148,6 +148,14 @@ impl Trend {
         let mean_tt = stt / n as f64;
         let suu = stt * ((n * n) as f64 - 4.0) / 15.0;
         let mut suy = [0.0; 2];
+        // The line through the last samples over the ground, on their own centred index.
+        let rate_hz = f.config().rate_hz;
+        let m = ((RECENT_WALK_S * rate_hz).round() as usize).clamp(2, n);
+        let (recent_centre, recent_stt) = (
+            (m - 1) as f64 / 2.0,
+            m as f64 * ((m * m) as f64 - 1.0) / 12.0,
+        );
+        let mut recent = [0.0; 2];
         let mut flipped = false;
         let mut previous = sample(0)[AZIMUTH];
         for i in 0..n {
@@ -162,6 +170,11 @@ impl Trend {
             suy[1] += u * p[1];
             flipped |= (p[AZIMUTH] - previous).abs() > FRAC_PI_2;
             previous = p[AZIMUTH];
+            if i + m >= n {
+                let dt = (i + m - n) as f64 - recent_centre;
+                recent[0] += dt * p[0];
+                recent[1] += dt * p[1];
+            }
         }
         let slope: Pose = std::array::from_fn(|c| sty[c] / stt);
         let residual: Pose = std::array::from_fn(|c| {
@@ -187,7 +200,6 @@ impl Trend {
             let rho = (lagged[c] / residual[c]).clamp(0.0, MAX_CORRELATION);
             ((1.0 + rho) / (1.0 - rho)).sqrt()
         });
-        let rate_hz = f.config().rate_hz;
         let mut trend = Self {
             scatter: residual.map(|r| (r / (n - 2) as f64).sqrt()),
             seen: n as f64 / rate_hz,
@@ -206,18 +218,6 @@ impl Trend {
             torso_line: (!flipped).then_some(mean[AZIMUTH]),
             recent_speed: 0.0,
         };
-        // The line through the last samples over the ground, on their own centred index.
-        let m = ((RECENT_WALK_S * rate_hz).round() as usize).clamp(2, n);
-        let (recent_centre, recent_stt) = (
-            (m - 1) as f64 / 2.0,
-            m as f64 * ((m * m) as f64 - 1.0) / 12.0,
-        );
-        let mut recent = [0.0; 2];
-        for i in n - m..n {
-            let (dt, p) = ((i + m - n) as f64 - recent_centre, sample(i));
-            recent[0] += dt * p[0];
-            recent[1] += dt * p[1];
-        }
         trend.recent_speed = recent[0].hypot(recent[1]) / recent_stt * rate_hz;
         // The path's turn rate: velocity x acceleration over speed squared, the acceleration
         // twice the quadratic term (per sample², hence rate² per s²).
@@ -303,7 +303,7 @@ impl Trend {
     /// continue for seconds (held still instead, no motion's forecasts on the scenes
     /// benchmark's development split got worse; docs/benchmark_log.md).
     pub fn steady(&self) -> [bool; 5] {
-        let walking = self.walk_seen() && !self.walk_ended();
+        let walking = self.walk_seen() && !self.walk_slowed();
         std::array::from_fn(|c| match c {
             HEIGHT => false,
             0 | 1 => walking,
@@ -329,7 +329,13 @@ impl Trend {
     /// ground): people stop where they were going, and a walk continued past its stop errs by
     /// its speed times the horizon, where holding errs by the few steps of the stop.
     pub fn walk_ended(&self) -> bool {
-        self.walk_seen() && self.recent_speed < WALK_GOES_ON * self.rate[0].hypot(self.rate[1])
+        self.walk_seen() && self.walk_slowed()
+    }
+
+    /// Whether the line through the history's last [`RECENT_WALK_S`] is slower than
+    /// [`WALK_GOES_ON`] of the history's line over the ground.
+    fn walk_slowed(&self) -> bool {
+        self.recent_speed < WALK_GOES_ON * self.rate[0].hypot(self.rate[1])
     }
 }
 
