@@ -365,8 +365,11 @@ impl SelfCheck {
     /// Tells the check which components of the track's history move steadily
     /// ([`crate::trend`]) and how many seconds of history it holds: a steady component takes a
     /// trend as its prior (a steady turn only for horizons up to that long, unless its forecasts
-    /// have shown it going on), the others holding still.
+    /// have shown it going on), the others holding still. No walk in it has ended
+    /// ([`set_trend`](Self::set_trend) says so where one has): what an earlier call was told
+    /// of the history does not outlast a new one.
     pub fn set_steady(&mut self, steady: [bool; 5], seen: f64) {
+        self.walk_ended = false;
         if steady != self.steady || seen != self.seen {
             self.steady = steady;
             self.seen = seen;
@@ -814,6 +817,10 @@ mod tests {
         let mut going = stopped;
         going.recent_speed = going.rate[0];
         check.set_trend(&going);
+        assert_eq!(check.weights(1.0)[0], [0.0, 0.0, 0.0, 1.0]);
+        // Told only what moves steadily, the check keeps no ended walk from an earlier call.
+        check.set_trend(&stopped);
+        check.set_steady([true, true, false, false, false], 2.0);
         assert_eq!(check.weights(1.0)[0], [0.0, 0.0, 0.0, 1.0]);
     }
 
