@@ -45,7 +45,7 @@ def torso_truth(joints: F64) -> F64:
     return np.column_stack([planes["centre"], planes["azimuth"], planes["elevation"]])
 
 
-def burst_yaw(bursts: tuple[tuple[float, float, float], ...], t: F64) -> F64:
+def _burst_yaw(bursts: tuple[tuple[float, float, float], ...], t: F64) -> F64:
     """How far ``bursts`` of turning (scene time it starts, duration, angle: s, s, rad) have
     turned a person by scene times ``t``: each burst as a minimum-jerk profile, which starts and
     ends at rest as a person's turn does."""
@@ -67,7 +67,7 @@ def _min_jerk_area(u: F64) -> F64:
     return u**4 * (2.5 - 3.0 * u + u**2)  # type: ignore[no-any-return]
 
 
-def pause_lag(pauses: tuple[tuple[float, float, float], ...], t: F64) -> F64:
+def _pause_lag(pauses: tuple[tuple[float, float, float], ...], t: F64) -> F64:
     """How far ``pauses`` (scene time each starts, its ramp and its standing time: s) have held
     a clip back by scene times ``t`` (s): each pause slows the clip's playback from full speed
     to rest over its ramp (a minimum-jerk profile of the speed, as a walker's stop takes about a
@@ -99,11 +99,11 @@ class Actor:
     ``position`` while the body turns about it, by ``yaw`` at ``anchor`` and steadily from there
     (the clip's own walking and turning are kept relative to the pelvis). With ``bursts`` (scene
     time each starts, its duration and angle: s, s, rad), the same on the spot, turned by ``yaw``
-    before the first burst and by each burst in turn (:func:`burst_yaw`), standing between them
+    before the first burst and by each burst in turn (:func:`_burst_yaw`), standing between them
     (a ``turn`` rate or ``bursts``, not both).
 
     With ``pauses`` (scene time each starts, its ramp and its standing time: s), the clip's
-    playback slows to rest, holds and goes on again (:func:`pause_lag`): a walker who stops
+    playback slows to rest, holds and goes on again (:func:`_pause_lag`): a walker who stops
     and walks on, the body still where it stopped (not with a ``turn`` rate or ``bursts``)."""
 
     motion: str
@@ -139,7 +139,7 @@ class Actor:
     def clip_time(self, t: float | F64) -> F64:
         """The clip's time (s) this actor shows at scene time(s) ``t``."""
         t = np.asarray(t, dtype=np.float64)
-        return t + self.start - pause_lag(self.pauses, t)  # type: ignore[no-any-return]
+        return t + self.start - _pause_lag(self.pauses, t)  # type: ignore[no-any-return]
 
     def place(self, motion: Motion) -> F64:
         """The clip's joints ``(frames, 38, 3)`` where this actor puts them."""
@@ -148,7 +148,7 @@ class Actor:
             pelvis = motion.joints[:, cmu.PELVIS : cmu.PELVIS + 1] * [1.0, 1.0, 0.0]
             clip_time = np.arange(len(motion.joints)) / motion.rate_hz
             yaw = self.yaw + self.turn * (clip_time - self.anchor)
-            yaw += burst_yaw(self.bursts, clip_time - self.start)
+            yaw += _burst_yaw(self.bursts, clip_time - self.start)
             c, s = np.cos(yaw)[:, None], np.sin(yaw)[:, None]
             x, y, z = np.moveaxis(motion.joints - pelvis, -1, 0)
             return np.stack([c * x - s * y, s * x + c * y, z], axis=-1) + target  # type: ignore[no-any-return]
