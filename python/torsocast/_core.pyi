@@ -373,7 +373,8 @@ class TrackerConfig:
     ) -> TrackerConfig: ...
     @property
     def gate(self) -> float:
-        """Largest torso-centre distance (m) between a track and its detection in one frame."""
+        """Largest distance (m) between where a track's person is expected (the last torso
+        centre, moved on at the track's walking velocity while unseen) and its detection's."""
     @property
     def min_hits(self) -> int:
         """Matched frames before a track is confirmed and given an id."""

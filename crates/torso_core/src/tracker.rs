@@ -5,8 +5,10 @@
 //!
 //! Each frame, the joints a detection shows on someone nearer the camera are dropped first
 //! ([`crate::stray::drop_read_off_nearer`]). The cost of giving detection `j` to track `i` is
-//! the distance between the track's last torso centre and the detection's; the optimal
-//! assignment ([`Assignment`]) is taken, and pairs further apart than `gate` are refused. An
+//! the distance between where track `i`'s person is expected (the last torso centre, moved on
+//! at the track's walking velocity for the time unseen where its history is a steady walk) and
+//! the detection's torso centre; the optimal assignment ([`Assignment`]) is taken, and pairs
+//! further apart than `gate` are refused. An
 //! unmatched detection opens a tentative track, which is confirmed (and given the next id)
 //! after `min_hits` matched frames, unless it lies within [`MIN_SEPARATION`] of a detection a
 //! track took: the same body seen twice. A confirmed track unmatched for `max_missing` seconds
@@ -76,8 +78,9 @@ pub const MIN_SEPARATION: f64 = 0.25;
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TrackerConfig {
-    /// Largest torso-centre distance (m) between a track and its detection in one frame: a
-    /// walking person covers 0.6 m in 0.4 s.
+    /// Largest distance (m) between where a track's person is expected and the torso centre of
+    /// the detection it takes: a walking person covers 0.6 m in 0.4 s (and a steady walk is
+    /// followed on while its walker is unseen).
     pub gate: f64,
     /// Matched frames before a track is confirmed and given an id.
     pub min_hits: u32,
@@ -195,6 +198,24 @@ struct Slot {
     last_seen: f64,
     id: Option<u64>,
     serial: u64,
+}
+
+impl Slot {
+    /// Where the track's person is expected at `t`: the last centre, moved on at its walk's
+    /// velocity over the time unseen where its history is a steady walk
+    /// ([`Person::walking_velocity`]). A walker hidden for a few frames walks on out of a gate
+    /// around where they were last seen; a person who stands, or whose history is too short to
+    /// tell, is looked for where they were.
+    fn expected_centre(&self, t: f64) -> [f64; 3] {
+        let [x, y, z] = self.centre;
+        match self.person.walking_velocity() {
+            Some([vx, vy]) => {
+                let dt = t - self.last_seen;
+                [x + vx * dt, y + vy * dt, z]
+            }
+            None => self.centre,
+        }
+    }
 }
 
 /// Tracks of every person in a stream. See the [module documentation](self).
@@ -572,9 +593,10 @@ impl Tracker {
             return Ok(());
         }
         let gate = self.config.gate;
+        let t = self.last_t.expect("set before association");
         self.cost.clear();
         for &i in &self.active {
-            let a = self.slots[i].centre;
+            let a = self.slots[i].expected_centre(t);
             for &d in &self.placeable {
                 let b = self.centres[d];
                 let distance = distance(a, b);
@@ -881,6 +903,34 @@ mod tests {
         // A second person with their torso centre 0.4 m away (shoulder to shoulder) gets one.
         let two = [body(3.0, 0.0), body(3.0, 0.4)];
         assert_eq!(frame(0.08, &two), (vec![true, true], 2));
+    }
+
+    #[test]
+    fn a_walker_hidden_for_a_while_is_looked_for_further_on_and_a_standing_person_where_they_stood()
+    {
+        // 2 s in view at 15 frames per second, then 0.6 s hidden, then seen again 0.72 m on
+        // from where the track last saw them: beyond the gate (0.6 m).
+        let id_after_gap = |speed: f64| {
+            let mut tracker = Tracker::new(TrackerConfig::default()).unwrap();
+            let at = |t: f64| body(5.0 - speed * t.min(2.0), 0.0);
+            let mut first = None;
+            for k in 0..=30 {
+                let t = k as f64 / 15.0;
+                let out = tracker.update(t, &[at(t)], &[SEEN], [0.0; 3]).unwrap();
+                first = first.or(out[0].track.and_then(|track| track.id));
+            }
+            let t = 2.0 + 0.6;
+            let seen = body(5.0 - speed * 2.0 - 0.72, 0.0);
+            let out = tracker.update(t, &[seen], &[SEEN], [0.0; 3]).unwrap();
+            (first, out[0].track.unwrap())
+        };
+        // Walking towards the camera at 1.2 m/s (the torso faces it): the walk went on unseen,
+        // and the same track takes the person again.
+        let (first, track) = id_after_gap(1.2);
+        assert_eq!((first, track.id), (Some(1), Some(1)));
+        // Standing still, the same displacement is someone else: a new, tentative track.
+        let (first, track) = id_after_gap(0.0);
+        assert_eq!((first, track.id), (Some(1), None));
     }
 
     #[test]

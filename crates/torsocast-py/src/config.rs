@@ -433,7 +433,8 @@ frozen_config!(TrackerConfig, {
         Ok(Self { inner })
     }
 
-    /// Largest torso-centre distance (m) between a track and its detection in one frame.
+    /// Largest distance (m) between where a track's person is expected (the last torso
+    /// centre, moved on at the track's walking velocity while unseen) and its detection's.
     #[getter]
     fn gate(&self) -> f64 {
         self.inner.gate

@@ -157,6 +157,14 @@ impl Person {
         &self.forecaster
     }
 
+    /// The velocity over the ground (m/s, world x and y) of the walk the track's history holds
+    /// ([`Trend::steady`]): where to look for a walker after frames unseen. `None` while the
+    /// history is no steady walk, or has not been fitted (with `self_check` off it never is).
+    pub fn walking_velocity(&self) -> Option<[f64; 2]> {
+        let trend = self.trend.as_ref()?;
+        trend.steady()[0].then_some([trend.rate[0], trend.rate[1]])
+    }
+
     /// One frame at time `t` (s): `joints` in the world frame (NaN where missing), their detector
     /// `scores`, and where the camera is (for a new track's front/back decision). A time stamp
     /// that does not increase, or a non-finite camera position, is refused before any state
