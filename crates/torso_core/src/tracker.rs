@@ -8,11 +8,11 @@
 //! the distance between where track `i`'s person is expected (the last torso centre, moved on
 //! at the track's walking velocity for the time unseen where its history is a steady walk) and
 //! the detection's torso centre; the optimal assignment ([`Assignment`]) is taken, and pairs
-//! further apart than `gate` are refused. An
-//! unmatched detection opens a tentative track, which is confirmed (and given the next id)
-//! after `min_hits` matched frames, unless it lies within [`MIN_SEPARATION`] of a detection a
-//! track took: the same body seen twice. A confirmed track unmatched for `max_missing` seconds
-//! is dropped, a tentative one at its first miss.
+//! further apart than `gate` are refused. An unmatched detection opens a tentative track,
+//! which is confirmed (and given the next id) after `min_hits` matched frames, unless it lies
+//! within [`MIN_SEPARATION`] of a detection a track took: the same body seen twice. A
+//! confirmed track unmatched for `max_missing` seconds is dropped, a tentative one at its first
+//! miss.
 //!
 //! At most `capacity` tracks live at once and a frame holds at most `max_detections`
 //! detections; every buffer grows to those bounds at most, and a dropped track's [`Person`] is
@@ -476,7 +476,7 @@ impl Tracker {
         self.placeable.clear();
         self.placeable
             .extend((0..self.centres.len()).filter(|&d| self.centres[d][0].is_finite()));
-        self.associate()?;
+        self.associate(t)?;
 
         self.outcomes.clear();
         self.outcomes
@@ -584,8 +584,9 @@ impl Tracker {
         }
     }
 
-    /// `matched[d]`: the slot of the live track that detection `d` continues, if any.
-    fn associate(&mut self) -> Result<()> {
+    /// `matched[d]`: the slot of the live track that detection `d` continues, if any, in the
+    /// frame at `t`.
+    fn associate(&mut self, t: f64) -> Result<()> {
         self.matched.clear();
         self.matched.resize(self.joints.len(), None);
         let (rows, cols) = (self.active.len(), self.placeable.len());
@@ -593,7 +594,6 @@ impl Tracker {
             return Ok(());
         }
         let gate = self.config.gate;
-        let t = self.last_t.expect("set before association");
         self.cost.clear();
         for &i in &self.active {
             let a = self.slots[i].expected_centre(t);
@@ -912,7 +912,7 @@ mod tests {
         // from where the track last saw them: beyond the gate (0.6 m).
         let id_after_gap = |speed: f64| {
             let mut tracker = Tracker::new(TrackerConfig::default()).unwrap();
-            let at = |t: f64| body(5.0 - speed * t.min(2.0), 0.0);
+            let at = |t: f64| body(5.0 - speed * t, 0.0);
             let mut first = None;
             for k in 0..=30 {
                 let t = k as f64 / 15.0;
