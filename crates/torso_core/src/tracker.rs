@@ -12,7 +12,9 @@
 //! which is confirmed (and given the next id) after `min_hits` matched frames, unless it lies
 //! within [`MIN_SEPARATION`] of a detection a track took: the same body seen twice. A
 //! confirmed track unmatched for `max_missing` seconds is dropped, a tentative one at its first
-//! miss.
+//! miss, and any track unmatched in a frame whose last torso centre lies within
+//! [`MIN_SEPARATION`] of a track's matched in it: the same body tracked twice (the two would
+//! take its detection in turns, and its reported id change every frame).
 //!
 //! At most `capacity` tracks live at once and a frame holds at most `max_detections`
 //! detections; every buffer grows to those bounds at most, and a dropped track's [`Person`] is
@@ -63,7 +65,8 @@ pub const MAX_CAPACITY: usize = 4096;
 /// back, and two bodies do not overlap. A detection this close to one that a track took is the
 /// same body seen twice (a keypoint model's non-maximum suppression, on boxes, leaves two
 /// detections of one person; the keypoints of a person behind another can all read the front
-/// one's depth and lift onto it), and opens no track of its own.
+/// one's depth and lift onto it), and opens no track of its own; a track left unmatched this
+/// close to one matched in the same frame is the same body tracked twice, and is dropped.
 pub const MIN_SEPARATION: f64 = 0.25;
 
 /// Association, birth and drop rules, and what each track and the depth lookup use.
@@ -526,8 +529,14 @@ impl Tracker {
         let max_missing = self.config.max_missing;
         let (slots, free) = (&mut self.slots, &mut self.free);
         self.active.retain(|&i| {
+            // Only live tracks were seen at `t`: a freed slot was last seen earlier.
+            let same_body = slots[i].last_seen != t
+                && slots.iter().any(|o| {
+                    o.last_seen == t && distance(o.centre, slots[i].centre) < MIN_SEPARATION
+                });
             let s = &mut slots[i];
-            let keep = s.last_seen == t || (s.id.is_some() && t - s.last_seen <= max_missing);
+            let keep = !same_body
+                && (s.last_seen == t || (s.id.is_some() && t - s.last_seen <= max_missing));
             if !keep {
                 s.person.reset();
                 free.push(i);
@@ -931,6 +940,34 @@ mod tests {
         // Standing still, the same displacement is someone else: a new, tentative track.
         let (first, track) = id_after_gap(0.0);
         assert_eq!((first, track.id), (Some(1), None));
+    }
+
+    #[test]
+    fn a_body_tracked_twice_keeps_one_track_and_a_neighbour_unseen_for_a_frame_keeps_theirs() {
+        // Two tracks 0.6 m apart; the second's detection then comes `near` m from the first
+        // for two frames (both tracks matched), and in the next frame only the first is seen.
+        let live_after = |near: f64| {
+            let mut tracker = Tracker::new(TrackerConfig::default()).unwrap();
+            let mut frame = |k: usize, bodies: &[Joints]| {
+                let scores = vec![SEEN; bodies.len()];
+                let t = k as f64 / 15.0;
+                let out = tracker.update(t, bodies, &scores, [0.0; 3]).unwrap();
+                out[0].track.unwrap().id
+            };
+            for k in 0..3 {
+                frame(k, &[body(3.0, 0.0), body(3.0, 0.6)]);
+            }
+            for k in 3..5 {
+                frame(k, &[body(3.0, 0.0), body(3.0, near)]);
+            }
+            let id = frame(5, &[body(3.0, 0.0)]);
+            (id, tracker.live())
+        };
+        // 0.2 m apart is one body tracked twice: the track left unmatched goes at once (it
+        // would take the body's detection in turns with the other).
+        assert_eq!(live_after(0.2), (Some(1), 1));
+        // 0.6 m apart is a neighbour unseen for a frame: their track lives on.
+        assert_eq!(live_after(0.6), (Some(1), 2));
     }
 
     #[test]
