@@ -527,12 +527,12 @@ impl Tracker {
             };
         }
         let max_missing = self.config.max_missing;
-        let (slots, free) = (&mut self.slots, &mut self.free);
+        let (slots, free, outcomes) = (&mut self.slots, &mut self.free, &self.outcomes);
         self.active.retain(|&i| {
-            // Only live tracks were seen at `t`: a freed slot was last seen earlier.
+            // The tracks matched in this frame are those its outcomes name.
             let same_body = slots[i].last_seen != t
-                && slots.iter().any(|o| {
-                    o.last_seen == t && distance(o.centre, slots[i].centre) < MIN_SEPARATION
+                && outcomes.iter().filter_map(|o| o.track).any(|track| {
+                    distance(slots[track.slot].centre, slots[i].centre) < MIN_SEPARATION
                 });
             let s = &mut slots[i];
             let keep = !same_body
