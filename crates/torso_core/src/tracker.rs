@@ -12,7 +12,7 @@
 //! which is confirmed (and given the next id) after `min_hits` matched frames, unless it lies
 //! within [`MIN_SEPARATION`] of a detection a track took: the same body seen twice. A
 //! confirmed track unmatched for `max_missing` seconds is dropped, a tentative one at its first
-//! miss, and any track unmatched in a frame whose last torso centre lies within
+//! miss, and any track unmatched in a frame where its person is expected within
 //! [`MIN_SEPARATION`] of a track's matched in it: the same body tracked twice (the two would
 //! take its detection in turns, and its reported id change every frame).
 //!
@@ -529,11 +529,15 @@ impl Tracker {
         let max_missing = self.config.max_missing;
         let (slots, free, outcomes) = (&mut self.slots, &mut self.free, &self.outcomes);
         self.active.retain(|&i| {
-            // The tracks matched in this frame are those its outcomes name.
-            let same_body = slots[i].last_seen != t
-                && outcomes.iter().filter_map(|o| o.track).any(|track| {
-                    distance(slots[track.slot].centre, slots[i].centre) < MIN_SEPARATION
-                });
+            // The tracks matched in this frame are those its outcomes name; an unmatched one is
+            // where association looked for it.
+            let same_body = slots[i].last_seen != t && {
+                let expected = slots[i].expected_centre(t);
+                outcomes
+                    .iter()
+                    .filter_map(|o| o.track)
+                    .any(|track| distance(slots[track.slot].centre, expected) < MIN_SEPARATION)
+            };
             let s = &mut slots[i];
             let keep = !same_body
                 && (s.last_seen == t || (s.id.is_some() && t - s.last_seen <= max_missing));
@@ -968,6 +972,33 @@ mod tests {
         assert_eq!(live_after(0.2), (Some(1), 1));
         // 0.6 m apart is a neighbour unseen for a frame: their track lives on.
         assert_eq!(live_after(0.6), (Some(1), 2));
+    }
+
+    #[test]
+    fn a_hidden_walker_whose_last_place_someone_else_takes_keeps_their_track() {
+        // A walks towards the camera at 1.2 m/s for 2 s, is hidden for 0.6 s and comes back
+        // where the walk went on; B crosses A's path, reaching where A was last seen while A
+        // is hidden (15 frames per second).
+        let mut tracker = Tracker::new(TrackerConfig::default()).unwrap();
+        let a = |t: f64| body(5.0 - 1.2 * t, 0.0);
+        let b = |t: f64| body(2.6, 0.1 + 1.2 * (t - 2.4));
+        let mut ids = Vec::new();
+        for k in 0..=39 {
+            let t = k as f64 / 15.0;
+            let bodies = if (31..39).contains(&k) {
+                vec![b(t)]
+            } else {
+                vec![b(t), a(t)]
+            };
+            let scores = vec![SEEN; bodies.len()];
+            let out = tracker.update(t, &bodies, &scores, [0.0; 3]).unwrap();
+            ids.push(out.iter().map(|o| o.track.unwrap().id).collect::<Vec<_>>());
+        }
+        // A's track is not dropped as B's body tracked twice (at 2.4 s B is 0.1 m from A's
+        // last centre, and A's walk has gone on 0.48 m from it): A comes back with their id.
+        let (b_id, a_id) = (ids[30][0], ids[30][1]);
+        assert!(a_id.is_some() && b_id.is_some() && a_id != b_id, "{ids:?}");
+        assert_eq!(ids[39], vec![b_id, a_id]);
     }
 
     #[test]
