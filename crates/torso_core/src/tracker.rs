@@ -65,8 +65,9 @@ pub const MAX_CAPACITY: usize = 4096;
 /// back, and two bodies do not overlap. A detection this close to one that a track took is the
 /// same body seen twice (a keypoint model's non-maximum suppression, on boxes, leaves two
 /// detections of one person; the keypoints of a person behind another can all read the front
-/// one's depth and lift onto it), and opens no track of its own; a track left unmatched this
-/// close to one matched in the same frame is the same body tracked twice, and is dropped.
+/// one's depth and lift onto it), and opens no track of its own; a track left unmatched whose
+/// person is expected this close to one matched in the same frame is the same body tracked
+/// twice, and is dropped.
 pub const MIN_SEPARATION: f64 = 0.25;
 
 /// Association, birth and drop rules, and what each track and the depth lookup use.
