@@ -30,7 +30,14 @@ from torsocast.evaluation.scenes.plan import (
     Size,
     draw_scene,
 )
-from torsocast.evaluation.scenes.score import TrackSide, assign, flip_source, tilt_angle, view_angle
+from torsocast.evaluation.scenes.score import (
+    TrackSide,
+    assign,
+    flip_source,
+    taken_ids,
+    tilt_angle,
+    view_angle,
+)
 from torsocast.evaluation.scenes.tables import (
     age_bin,
     coverage_cells,
@@ -395,6 +402,20 @@ def test_a_flip_is_put_down_to_the_first_rule_that_explains_it():
     assert [r["source"] for r in rows] == ["bad plane", "born wrong", "turned wrong", "side lost"]
     assert by["side lost"]["flips"] == 2 and by["side lost"]["share"] == 0.5 and by["side lost"]["young"] == 0
     assert by["born wrong"]["young"] == 1 and by["turned wrong"]["flips"] == 0
+
+
+def test_an_id_passed_on_to_someone_else_is_counted_for_the_one_it_was_passed_to():
+    seen = {
+        # Person 0 keeps id 1, loses it for a frame (unseen: no id) and gets it back.
+        0: [(0.0, 1), (0.1, 1), (0.2, None), (0.3, 1)],
+        # Person 1 has id 2, then id 1 (person 0's since 0.0), then id 3 (new), then id 2 again.
+        1: [(0.0, 2), (0.1, 1), (0.2, 3), (0.3, 2)],
+        # Person 2 first appears with id 3, which person 1 had at 0.2, and at the same time as
+        # person 1 with id 4 (neither had it before the other).
+        2: [(0.25, 3), (0.3, 4)],
+        3: [(0.3, 4)],
+    }
+    assert taken_ids(seen) == {0: 0, 1: 1, 2: 1, 3: 0}
 
 
 def test_flips_are_counted_by_the_facing_evidence_given_with_the_estimate():

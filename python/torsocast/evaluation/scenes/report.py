@@ -312,20 +312,23 @@ def markdown(bench: Benchmark, t: dict[str, Any], figures: list[str]) -> str:
         "",
         "## Tracking",
         "",
-        "| group | people | visible frames | tracks | identity switches | lost tracks |",
+        "| group | people | visible frames | tracks | identity switches | lost tracks | ids taken |",
     ]
-    lines.append("|---|---:|---:|---:|---:|---:|")
+    lines.append("|---|---:|---:|---:|---:|---:|---:|")
     for axis in ("all", "people", "category"):
         for r in t["identity"][axis]:
             label = r["group"] if axis == "all" else f"{AXIS_NAMES[axis]}: {r['group']}"
             lines.append(
                 f"| {label} | {r['people']} | {r['visible_frames']} | {r['tracks']} "
-                f"| {r['switches']} | {r['lost']} |"
+                f"| {r['switches']} | {r['lost']} | {r['taken']} |"
             )
     lines += [
         "",
         "Identity switches: times a person's reported track id changed. Lost tracks: tracks that "
-        "ended while their person stayed in view for at least another second.",
+        "ended while their person stayed in view for at least another second. Ids taken: ids a "
+        "person was reported with that someone else in the scene had been reported with before "
+        "(an id passed on to another person: a switch counts a person's own id changing, not "
+        "the id they were given instead).",
     ]
     if figures:
         lines += ["", "## Figures", ""] + [f"![{Path(f).stem}]({f})" for f in figures]

@@ -129,6 +129,26 @@ class SceneScore:
     false_positives: int = 0
 
 
+def taken_ids(seen_ids: dict[int, list[tuple[float, int | None]]]) -> dict[int, int]:
+    """Per person, how many of the ids they were reported with someone else in the scene had been
+    reported with before them (``seen_ids``: per person, the frames' times and reported ids,
+    None where none). A switch counts a person's own id changing; an id passed on to someone
+    else is counted here, once, for the person it was passed to."""
+    first: dict[int, dict[int, float]] = defaultdict(dict)
+    for actor, seen in seen_ids.items():
+        for t, i in seen:
+            if i is not None:
+                first[i].setdefault(actor, t)
+    return {
+        actor: sum(
+            1
+            for i in {i for _, i in seen if i is not None}
+            if any(t < first[i][actor] for other, t in first[i].items() if other != actor)
+        )
+        for actor, seen in seen_ids.items()
+    }
+
+
 class Scorer:
     """Scores the frames of one scene as they come out of the pipeline."""
 
@@ -241,7 +261,8 @@ class Scorer:
                 f[f"half_width_{axis}"].append(float(half))
 
     def finish(self) -> SceneScore:
-        """Identity switches and lost tracks of every person, once the scene is over."""
+        """Identity switches, lost tracks and taken ids of every person, once the scene is over."""
+        taken = taken_ids(self.seen_ids)
         for actor, seen in self.seen_ids.items():
             ids = [(t, i) for t, i in seen if i is not None]
             switches = sum(1 for (_, a), (_, b) in zip(ids, ids[1:]) if a != b)
@@ -259,4 +280,5 @@ class Scorer:
             g["tracks"].append(len(ends))
             g["switches"].append(switches)
             g["lost"].append(lost)
+            g["taken"].append(taken[actor])
         return self.score

@@ -311,7 +311,8 @@ def coverage_cells(rows: list[dict[str, Any]]) -> dict[str, Any]:
 
 
 def identity_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
-    """Per group: people, the tracks they were given, identity switches and lost tracks."""
+    """Per group: people, the tracks they were given, identity switches, lost tracks and ids
+    taken from someone else."""
     rows: list[dict[str, Any]] = []
     if not cols:
         return rows
@@ -324,6 +325,7 @@ def identity_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
                 "tracks": int(cols["tracks"][mask].sum()),
                 "switches": int(cols["switches"][mask].sum()),
                 "lost": int(cols["lost"][mask].sum()),
+                "taken": int(cols["taken"][mask].sum()),
             }
         )
     return rows
