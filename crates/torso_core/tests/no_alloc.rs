@@ -263,10 +263,10 @@ fn a_tracker_step_never_allocates_once_it_has_seen_its_busiest_frame() {
     // dropped) and back as a new track, born in the dropped one's reused slot.
     let present = |k: usize| match k {
         _ if k % 9 == 0 => 6,
-        90..130 => people - 1,
+        90..160 => people - 1,
         _ => people,
     };
-    let frames: Vec<Vec<Keypoints>> = (0..170).map(|k| frame(k, present(k))).collect();
+    let frames: Vec<Vec<Keypoints>> = (0..200).map(|k| frame(k, present(k))).collect();
     let mut out = [[0.0; 5]; 3];
     let mut run = |tracker: &mut Tracker, range: std::ops::Range<usize>| {
         for k in range {
@@ -286,7 +286,7 @@ fn a_tracker_step_never_allocates_once_it_has_seen_its_busiest_frame() {
     // Warm-up: the busiest frame, every track born.
     run(&mut tracker, 0..80);
     assert_eq!(tracker.tracks().count(), people);
-    let count = allocations_during(|| run(&mut tracker, 80..170));
+    let count = allocations_during(|| run(&mut tracker, 80..200));
     assert_eq!(count, 0);
     let ids: Vec<u64> = tracker.tracks().filter_map(|(t, _)| t.id).collect();
     assert_eq!(ids.len(), people);
