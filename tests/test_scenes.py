@@ -405,7 +405,7 @@ def test_a_flip_is_put_down_to_the_first_rule_that_explains_it():
 
 
 def test_an_id_passed_on_to_someone_else_is_counted_for_the_one_it_was_passed_to():
-    seen = {
+    seen: dict[int, list[tuple[float, int | None]]] = {
         # Person 0 keeps id 1, loses it for a frame (unseen: no id) and gets it back.
         0: [(0.0, 1), (0.1, 1), (0.2, None), (0.3, 1)],
         # Person 1 has id 2, then id 1 (person 0's since 0.0), then id 3 (new), then id 2 again.
