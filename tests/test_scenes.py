@@ -20,6 +20,12 @@ from torsocast.datasets import cmu
 from torsocast.evaluation.scenes.oracle import Oracle, lift_at_true_pixels, put_joints_at_truth
 from torsocast.evaluation.scenes.plan import (
     FIRST_TURN_S,
+    HIDDEN_DISTANCE_M,
+    HIDDEN_STAND_S,
+    HIDDEN_TURN_DEG,
+    HIDDEN_TURN_RATE_DEG,
+    HIDE_AT_S,
+    HIDER_SHARE,
     PAUSING_MOTIONS,
     STOP_RAMP_S,
     STOP_S,
@@ -243,7 +249,7 @@ def test_stopping_scenes_turn_their_people_within_the_drawn_ranges_and_leave_the
                 assert TURN_RATE_DEG[0] <= degrees / length <= TURN_RATE_DEG[1]
                 if np.isfinite(after):
                     assert STOP_S[0] <= after - start - length <= STOP_S[1]
-    assert Size(100, 6.0, 16, 16, 16).scaled(50) == Size(50, 6.0, 8, 8, 8)
+    assert Size(100, 6.0, 16, 16, 16, 16).scaled(50) == Size(50, 6.0, 8, 8, 8, 8)
     with pytest.raises(ValueError, match="not several"):
         draw_scene(catalogue, 5, 7, size, turning=True, stopping=True)
 
@@ -288,6 +294,50 @@ def test_pausing_scenes_stop_their_walkers_on_both_feet_within_the_drawn_ranges(
     assert stops >= 2
     with pytest.raises(ValueError, match="not several"):
         draw_scene(catalogue, 5, 7, size, stopping=True, pausing=True)
+
+
+def test_hiding_scenes_turn_their_person_round_while_a_walker_stands_in_front():
+    # Drawn after the other kinds: a person turns round (one turn in the drawn ranges) halfway
+    # through a walker's stand on the line of sight between them and the camera, come to rest
+    # there after walking across it. Rendered: the person is seen before and after, and hidden
+    # mid-turn.
+    walk = cmu.load_clip(cmu.bundled_clips()["train_walking_2"])
+    walker = Motion("walk", "cmu walking", walk, 120.0)
+    still = Motion("still", "h36m constrained", np.repeat(walk[:1], 800, axis=0), 120.0)
+    catalogue = Catalogue("dev")
+    catalogue.add("cmu walking", "walk", lambda: walker)
+    catalogue.add("h36m constrained", "still", lambda: still)
+    size = Size(scenes=2, duration=6.0, hiding=2)
+    speed = np.linalg.norm(np.gradient(walk[:, cmu.PELVIS, :2], 1 / 120.0, axis=0), axis=1)
+    for index in (2, 3):
+        spec = draw_scene(catalogue, index, 7, size, hiding=True)
+        hidden, hider = spec.actors
+        assert hidden.motion == "still" and hider.motion == "walk" and not hider.bursts
+        ((start, length, angle),) = hidden.bursts
+        ((begin, ramp, hold),) = hider.pauses
+        degrees = abs(np.degrees(angle))
+        assert HIDDEN_TURN_DEG[0] <= degrees <= HIDDEN_TURN_DEG[1]
+        assert HIDDEN_TURN_RATE_DEG[0] <= degrees / length <= HIDDEN_TURN_RATE_DEG[1]
+        assert STOP_RAMP_S[0] <= ramp <= STOP_RAMP_S[1] and HIDE_AT_S[0] <= begin + ramp <= HIDE_AT_S[1]
+        assert HIDDEN_STAND_S[0] <= hold <= HIDDEN_STAND_S[1]
+        assert start + length / 2 == pytest.approx(begin + ramp + hold / 2)
+        far, near = np.array(hidden.position), np.array(hider.position)
+        assert HIDDEN_DISTANCE_M[0] <= np.linalg.norm(far) <= HIDDEN_DISTANCE_M[1]
+        share = np.linalg.norm(near) / np.linalg.norm(far)
+        assert HIDER_SHARE[0] <= share <= HIDER_SHARE[1]
+        assert abs(far[0] * near[1] - far[1] * near[0]) < 1e-9  # on the line of sight
+        # At rest on the clip's own walk, whose pelvis crosses the line of sight at a right angle.
+        k = int(round(float(hider.clip_time(begin + ramp + hold / 2)) * 120.0))
+        assert speed[k] > 0.5
+        placed = hider.place(walker)[:, cmu.PELVIS, :2]
+        direction = placed[min(k + 60, len(walk) - 1)] - placed[max(k - 60, 0)]
+        assert abs(direction @ far) < 0.1 * np.linalg.norm(direction) * np.linalg.norm(far)
+    spec = SceneSpec("hiding", "kinect_v2", 2.0, 1.2, -5.0, spec.duration, spec.actors, spec.seed)
+    scene = RenderedScene(spec, {"walk": walker, "still": still})
+    seen = {t: scene.visible(f)[0] for t, f in zip(spec.times, scene)}
+    assert seen[0.0] and seen[6.0] and not seen[round((start + length / 2) * 2) / 2]
+    with pytest.raises(ValueError, match="not several"):
+        draw_scene(catalogue, 5, 7, size, pausing=True, hiding=True)
 
 
 def test_labels_show_whose_pixel_it_is_and_a_person_behind_another_is_hidden(standing):

@@ -9,7 +9,9 @@ heading and placed 1 to 6 m from the camera inside its field of view, never near
 one to three people turning on the spot at a steady rate (the case of a steady turn, where a
 heading forecast has a real trend to continue), then as many of people who turn on the spot and
 stop, again and again (as people turn to look at something: a trend that ends), then as many of
-walkers who stop and walk on (as people walk up to something, or to the robot: a walk that ends).
+walkers who stop and walk on (as people walk up to something, or to the robot: a walk that ends),
+then as many of a person who turns round while a walker stands between them and the camera (as
+people turn while someone passing hides them: a track that must take its person up again turned).
 """
 
 from __future__ import annotations
@@ -69,14 +71,30 @@ FIRST_TURN_S = (-1.0, 2.0)
 PAUSING_MOTIONS = ("cmu walking", "h36m pedestrian")
 STOP_RAMP_S = (0.4, 0.8)
 WALK_S = (0.5, 2.5)
+#: Scenes of a person who turns while hidden: one person of :data:`TURNING_MOTIONS` stands at a
+#: distance drawn from :data:`HIDDEN_DISTANCE_M` (m), and a walker of :data:`PAUSING_MOTIONS`
+#: walks across the line of sight between them and the camera and stops on it (at a share of
+#: that distance drawn from :data:`HIDER_SHARE`), at rest from a scene time drawn from
+#: :data:`HIDE_AT_S` (s) for a time drawn from :data:`HIDDEN_STAND_S` (s). Halfway through
+#: that stand the person is halfway through a turn round (an angle drawn from
+#: :data:`HIDDEN_TURN_DEG`, either way, at a mean rate drawn from :data:`HIDDEN_TURN_RATE_DEG`:
+#: deg, deg/s). The walker hides the person while slowing and walking off too: about one to
+#: two and a half seconds in all, either side of how long a track is kept unseen.
+HIDDEN_DISTANCE_M = (2.5, 6.0)
+HIDER_SHARE = (0.4, 0.7)
+HIDE_AT_S = (1.5, 2.5)
+HIDDEN_STAND_S = (0.2, 1.4)
+HIDDEN_TURN_DEG = (120.0, 180.0)
+HIDDEN_TURN_RATE_DEG = (120.0, 240.0)
 
 
 @dataclass(frozen=True)
 class Size:
     """How much a run renders: ``scenes`` of people as their clips move them, then ``turning``
     scenes of people turning on the spot, then ``stopping`` scenes of people who turn and stop,
-    then ``pausing`` scenes of walkers who stop and walk on (each kind numbered after the ones
-    before, so that adding it left them as they were)."""
+    then ``pausing`` scenes of walkers who stop and walk on, then ``hiding`` scenes of a person
+    who turns round while a walker hides them (each kind numbered after the ones before, so
+    that adding it left them as they were)."""
 
     scenes: int
     duration: float
@@ -84,15 +102,17 @@ class Size:
     turning: int = 0
     stopping: int = 0
     pausing: int = 0
+    hiding: int = 0
 
     def scaled(self, scenes: int) -> Size:
         """``scenes`` scenes, with the other kinds in the same proportion."""
         share = scenes / self.scenes
-        kinds = (round(n * share) for n in (self.turning, self.stopping, self.pausing))
+        kinds = (round(n * share) for n in (self.turning, self.stopping, self.pausing, self.hiding))
         return Size(scenes, self.duration, *kinds)
 
 
-FULL = Size(scenes=100, duration=6.0, turning=16, stopping=16, pausing=16)
+FULL = Size(scenes=100, duration=6.0, turning=16, stopping=16, pausing=16, hiding=16)
+#: No hiding scene: in 4 s the hidden person would barely be seen again.
 QUICK = Size(scenes=8, duration=4.0, turning=1, stopping=1, pausing=1)
 
 #: Where the data is looked for when no folder is given.
@@ -222,6 +242,12 @@ def _both_feet_down(motion: Motion) -> np.ndarray:
     return speed.max(axis=1)  # type: ignore[no-any-return]
 
 
+def _rest_frame(feet: np.ndarray, k: int, window: int) -> int:
+    """The clip frame within ``window`` frames of ``k`` where both ``feet`` (per frame, the faster
+    ankle's speed: :func:`_both_feet_down`) move slowest."""
+    return k + int(np.argmin(feet[k - window : k + window + 1])) - window
+
+
 def _pauses(
     rng: np.random.Generator, motion: Motion, start: float, duration: float
 ) -> tuple[tuple[float, float, float], ...]:
@@ -241,7 +267,7 @@ def _pauses(
         k = int(round((start + begin - lag + ramp / 2) * motion.rate_hz))
         if not window <= k < len(feet) - window:
             break  # the clip ends (or has not started) there: walk on as recorded
-        k += int(np.argmin(feet[k - window : k + window + 1])) - window
+        k = _rest_frame(feet, k, window)
         begin = k / motion.rate_hz - ramp / 2 - start + lag
         out.append((float(begin), float(ramp), float(hold)))
         lag += ramp + hold
@@ -249,43 +275,108 @@ def _pauses(
     return tuple(out)
 
 
-def draw_scene(
-    catalogue: Catalogue,
-    index: int,
-    seed: int,
-    size: Size,
-    people: int | None = None,
-    turning: bool = False,
-    stopping: bool = False,
-    pausing: bool = False,
-) -> SceneSpec:
-    """Scene ``index`` of a run with ``seed``: the same numbers give the same scene. A
-    ``turning`` scene's people turn on the spot (:data:`TURN_RATE_DEG`), a ``stopping`` scene's
-    turn on the spot and stop (:data:`TURN_ANGLE_DEG`, :data:`STOP_S`), a ``pausing`` scene's
-    walk and stop (:data:`PAUSING_MOTIONS`, :data:`STOP_RAMP_S`, :data:`STOP_S`,
-    :data:`WALK_S`); one kind at most."""
-    if turning + stopping + pausing > 1:
-        raise ValueError(
-            "a scene's people turn steadily (turning), turn and stop (stopping) or walk and stop "
-            "(pausing): one kind, not several"
+def _apart(paths: list[np.ndarray], path: np.ndarray) -> bool:
+    """Whether a pelvis ``path`` keeps :data:`MIN_SEPARATION` from each of ``paths`` (NaN where
+    the person is absent) at every instant."""
+    with np.errstate(invalid="ignore"):
+        near = [np.nanmin(np.linalg.norm(path - other, axis=1), initial=np.inf) for other in paths]
+    return all(d >= MIN_SEPARATION for d in near)
+
+
+def _walker_at_rest(
+    rng: np.random.Generator, walker: Motion, rest_at: float
+) -> tuple[float, float, float] | None:
+    """Where a walker's clip comes to rest, ``rest_at`` s into the scene after a stop's ramp
+    drawn from :data:`STOP_RAMP_S`: (the clip time it starts at, the clip time it rests at,
+    the ramp; s), resting on a frame where both feet are planted with the walk before it in the
+    clip; None where the clip is too short."""
+    ramp = rng.uniform(*STOP_RAMP_S)
+    window = int(round(0.25 * walker.rate_hz))
+    feet = _both_feet_down(walker)
+    # The ramp plays half its length of the clip: so much walk is seen before the rest.
+    first = int(np.ceil((rest_at - ramp / 2) * walker.rate_hz)) + window
+    if first >= len(feet) - window:
+        return None
+    k = _rest_frame(feet, int(rng.integers(first, len(feet) - window)), window)
+    rest = k / walker.rate_hz
+    return rest - rest_at + ramp / 2, rest, float(ramp)
+
+
+def _heading_of_walk(walker: Motion, rest: float) -> float:
+    """The direction (rad) the walker's pelvis moves over the floor in the clip's second around
+    clip time ``rest``."""
+    k = int(round(rest * walker.rate_hz))
+    half = int(round(0.5 * walker.rate_hz))
+    a, b = max(k - half, 0), min(k + half, len(walker.joints) - 1)
+    d = walker.joints[b, cmu.PELVIS, :2] - walker.joints[a, cmu.PELVIS, :2]
+    return float(np.arctan2(d[1], d[0]))
+
+
+def _hiding_pair(catalogue: Catalogue, rng: np.random.Generator, size: Size, half_fov: float) -> list[Actor]:
+    """A person who turns round while a walker stands between them and the camera, and that
+    walker (:data:`HIDDEN_DISTANCE_M` and the constants after it); no pair where 30 draws could
+    not keep them :data:`MIN_SEPARATION` apart."""
+    times = np.arange(0.0, size.duration + 1e-9, 0.1)
+    for _attempt in range(30):
+        bearing = rng.uniform(-0.6, 0.6) * half_fov
+        ray = np.array([np.cos(bearing), np.sin(bearing)])
+        distance = rng.uniform(*HIDDEN_DISTANCE_M)
+        walker = catalogue.draw(rng, categories=PAUSING_MOTIONS)
+        rest_at = rng.uniform(*HIDE_AT_S)
+        resting = _walker_at_rest(rng, walker, rest_at)
+        if resting is None:
+            continue
+        start, rest, ramp = resting
+        stand = rng.uniform(*HIDDEN_STAND_S)
+        angle = float(rng.choice([-1.0, 1.0]) * np.radians(rng.uniform(*HIDDEN_TURN_DEG)))
+        length = abs(angle) / np.radians(rng.uniform(*HIDDEN_TURN_RATE_DEG))
+        across = _heading_of_walk(walker, rest) - bearing - rng.choice([-1.0, 1.0]) * np.pi / 2
+        hider = Actor(
+            walker.name,
+            start,
+            rest,
+            float(-across),
+            tuple(float(x) for x in rng.uniform(*HIDER_SHARE) * distance * ray),  # type: ignore[arg-type]
+            random_outfit(rng),
+            pauses=((rest_at - ramp, ramp, float(stand)),),
         )
-    on_the_spot = turning or stopping
-    rng = np.random.default_rng([seed, index])
-    sensor = sorted(SENSORS)[int(rng.integers(len(SENSORS)))]
-    fps = FRAME_RATES[int(rng.integers(len(FRAME_RATES)))]
-    height, tilt = rng.uniform(*HEIGHT_M), rng.uniform(*TILT_DEG)
-    most = TURNING_PEOPLE if on_the_spot or pausing else MAX_PEOPLE
-    if people is None:
-        people = 1 if rng.random() < SINGLE_SHARE else int(rng.integers(2, most + 1))
-    intr = SENSORS[sensor].intrinsics
-    half_fov = np.arctan2(SENSORS[sensor].width / 2, intr.fx)
+        motion = catalogue.draw(rng, frozenset({walker.name}), TURNING_MOTIONS)
+        spare = motion.duration - size.duration
+        clip_start = rng.uniform(0.0, spare) if spare >= 0 else -rng.uniform(0.0, -spare)
+        hidden = Actor(
+            motion.name,
+            float(clip_start),
+            float(np.clip(clip_start + size.duration / 2, 0.0, motion.duration)),
+            float(rng.uniform(-np.pi, np.pi)),
+            (float(distance * ray[0]), float(distance * ray[1])),
+            random_outfit(rng),
+            bursts=((float(rest_at + (stand - length) / 2), float(length), angle),),
+        )
+        if _apart([_pelvis_path(hidden, motion, times)], _pelvis_path(hider, walker, times)):
+            return [hidden, hider]
+    return []
+
+
+def _people(
+    catalogue: Catalogue,
+    rng: np.random.Generator,
+    size: Size,
+    people: int,
+    half_fov: float,
+    kinds: tuple[str, ...] | None,
+    turning: bool,
+    stopping: bool,
+    pausing: bool,
+) -> list[Actor]:
+    """Up to ``people`` people of the motion categories ``kinds`` (any where None), each placed
+    and turned at random as :func:`draw_scene` says, kept :data:`MIN_SEPARATION` apart (one
+    that 30 draws could not place is left out)."""
     times = np.arange(0.0, size.duration + 1e-9, 0.1)
     actors: list[Actor] = []
     paths: list[np.ndarray] = []
     for _ in range(people):
         for _attempt in range(30):
             avoid = frozenset(a.motion for a in actors)
-            kinds = TURNING_MOTIONS if on_the_spot else PAUSING_MOTIONS if pausing else None
             motion = catalogue.draw(rng, avoid, kinds)
             spare = motion.duration - size.duration
             # A clip shorter than the scene starts at a random moment of it (the person appears).
@@ -305,12 +396,50 @@ def draw_scene(
                 pauses=_pauses(rng, motion, float(start), size.duration) if pausing else (),
             )
             path = _pelvis_path(actor, motion, times)
-            with np.errstate(invalid="ignore"):
-                near = [np.nanmin(np.linalg.norm(path - other, axis=1), initial=np.inf) for other in paths]
-            if all(d >= MIN_SEPARATION for d in near):
+            if _apart(paths, path):
                 actors.append(actor)
                 paths.append(path)
                 break
+    return actors
+
+
+def draw_scene(
+    catalogue: Catalogue,
+    index: int,
+    seed: int,
+    size: Size,
+    people: int | None = None,
+    turning: bool = False,
+    stopping: bool = False,
+    pausing: bool = False,
+    hiding: bool = False,
+) -> SceneSpec:
+    """Scene ``index`` of a run with ``seed``: the same numbers give the same scene. A
+    ``turning`` scene's people turn on the spot (:data:`TURN_RATE_DEG`), a ``stopping`` scene's
+    turn on the spot and stop (:data:`TURN_ANGLE_DEG`, :data:`STOP_S`), a ``pausing`` scene's
+    walk and stop (:data:`PAUSING_MOTIONS`, :data:`STOP_RAMP_S`, :data:`STOP_S`,
+    :data:`WALK_S`), a ``hiding`` scene's two people are one who turns round while the other
+    hides them (:data:`HIDDEN_DISTANCE_M`; ``people`` is not drawn); one kind at most."""
+    if turning + stopping + pausing + hiding > 1:
+        raise ValueError(
+            "a scene's people turn steadily (turning), turn and stop (stopping), walk and stop "
+            "(pausing) or turn while hidden (hiding): one kind, not several"
+        )
+    rng = np.random.default_rng([seed, index])
+    sensor = sorted(SENSORS)[int(rng.integers(len(SENSORS)))]
+    fps = FRAME_RATES[int(rng.integers(len(FRAME_RATES)))]
+    height, tilt = rng.uniform(*HEIGHT_M), rng.uniform(*TILT_DEG)
+    intr = SENSORS[sensor].intrinsics
+    half_fov = np.arctan2(SENSORS[sensor].width / 2, intr.fx)
+    if hiding:
+        actors = _hiding_pair(catalogue, rng, size, float(half_fov))
+    else:
+        kinds = TURNING_MOTIONS if turning or stopping else PAUSING_MOTIONS if pausing else None
+        most = MAX_PEOPLE if kinds is None else TURNING_PEOPLE
+        if people is None:
+            people = 1 if rng.random() < SINGLE_SHARE else int(rng.integers(2, most + 1))
+        turns = (turning, stopping, pausing)
+        actors = _people(catalogue, rng, size, people, float(half_fov), kinds, *turns)
     return SceneSpec(
         f"{catalogue.split}-{seed}-{index:03d}",
         sensor,

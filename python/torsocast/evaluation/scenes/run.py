@@ -197,6 +197,8 @@ def evaluate(
     specs += [draw_scene(catalogue, first + i, seed, size, stopping=True) for i in range(size.stopping)]
     first += size.stopping
     specs += [draw_scene(catalogue, first + i, seed, size, pausing=True) for i in range(size.pausing)]
+    first += size.pausing
+    specs += [draw_scene(catalogue, first + i, seed, size, hiding=True) for i in range(size.hiding)]
     bench = Benchmark(catalogue.split, seed, quick, [], notes=catalogue.notes)
     bench.models = {"one person": "MoveNet Lightning int8 (bundled)", "several people": models.multi_name}
     if models.multi is None:
