@@ -28,7 +28,11 @@
 //! evidence was for. When that evidence turns against the heading, the track turns round: the
 //! heading and everything the track remembers of the body's sides are reversed. Whether the
 //! heading is confident is judged on the recent evidence, forgotten over
-//! [`FacingConfig::memory`] (a second): the labels alone, however long they agree, build about a
+//! [`FacingConfig::memory`] (a second). While the torso goes unseen (no torso line, so no
+//! decision: hidden, out of view or not detected), nothing says whether the person turned
+//! round, and the side's evidence is forgotten as fast as the recent evidence: after a second
+//! or two unseen, the next frames' cues decide the side nearly as they would a new track's.
+//! The labels alone, however long they agree, build about a
 //! memory's worth of it; a heading with more than that has been confirmed recently by another
 //! cue, and is reported confident unless the frame's torso line lies far across the recent
 //! heading (a bad plane); the track also calls no heading confident whose torso leans far from
@@ -80,7 +84,8 @@ const FULL_SPEED_SPAN: f64 = 0.5;
 /// Time constant (s) of the smoothed velocity the motion cue reads.
 const VELOCITY_TIME: f64 = 0.5;
 /// Evidence is counted per this much time (s), so that a camera's frame rate does not change
-/// how fast it builds; a longer step than `MAX_STEP` counts as `MAX_STEP`.
+/// how fast it builds; a longer step than `MAX_STEP` counts as `MAX_STEP`, the rest of it as
+/// time unseen.
 const UNIT_STEP: f64 = 0.04;
 const MAX_STEP: f64 = 0.2;
 
@@ -96,7 +101,8 @@ const MAX_STEP: f64 = 0.2;
 pub struct FacingConfig {
     /// Time constant (s) over which the recent evidence is forgotten: what says whether the
     /// heading is confident ([`Decision::confident`]). The side itself is decided on evidence
-    /// kept longer, forgotten as the heading moves (module docs).
+    /// kept longer, forgotten as the heading moves (module docs), and over this time constant
+    /// while the torso goes unseen.
     pub memory: f64,
     /// Weight of the nose cue, relative to the labels' (1 per 0.04 s of agreement).
     pub face_weight: f64,
@@ -280,6 +286,7 @@ impl Facing {
         let first = self.heading.is_none();
         let recent = self.reference; // before this frame moves it
         let reference = recent[1].atan2(recent[0]);
+        let elapsed = self.last.map_or(0.0, |(last_t, _)| (t - last_t).max(0.0));
         let (dt, candidate) = match (self.heading, self.last) {
             (Some(h), Some((last_t, _))) => {
                 let side = if (labelled - reference).cos() >= 0.0 {
@@ -318,7 +325,11 @@ impl Facing {
             vote +=
                 config.motion_weight * strength * agrees(self.velocity[1].atan2(self.velocity[0]));
         }
-        let keep = (-dt / config.memory).exp();
+        // A step longer than `MAX_STEP` counts as `MAX_STEP`, and the rest of it the torso went
+        // unseen (no decision): a person may turn round unseen, so both kinds of evidence are
+        // forgotten over that time as fast as the recent evidence is.
+        let unseen = (elapsed - dt).max(0.0);
+        let keep = (-(dt + unseen) / config.memory).exp();
         self.evidence = self.evidence * keep + unit * vote;
         // The share `g` of the way to the candidate the recent heading moves this frame by time
         // alone, and the angle that takes it through, either way: the side's evidence is
@@ -329,8 +340,8 @@ impl Facing {
             let g = 1.0 - (-dt / REFERENCE_TIME).exp();
             (g, g * (candidate - reference).cos().acos())
         };
-        self.side_evidence =
-            self.side_evidence * (-dt / SIDE_MEMORY - sweep / SIDE_TURN).exp() + unit * vote;
+        let forget = dt / SIDE_MEMORY + unseen / config.memory + sweep / SIDE_TURN;
+        self.side_evidence = self.side_evidence * (-forget).exp() + unit * vote;
         let mut heading = candidate;
         let mut turned = false;
         if self.side_evidence < 0.0 {
@@ -519,6 +530,33 @@ mod tests {
             assert_eq!(d.exchange, (20..25).contains(&k));
             assert!(!d.turned);
         }
+    }
+
+    #[test]
+    fn evidence_is_forgotten_while_the_torso_goes_unseen() {
+        // Two seconds facing 0.3 by the labels and the nose, then unseen, then the labels alone
+        // for the other side (the person turned round while hidden), frame after frame: the
+        // longer the gap, the sooner the track turns round, and after a few seconds unseen the
+        // side is the next frames' (as a new track's would be) within a few frames.
+        let config = FacingConfig::default();
+        let frames_to_turn = |gap: f64| {
+            let mut facing = Facing::default();
+            for k in 0..50 {
+                let seen = cues(0.3, [2.0, 0.0, 1.0], Some(0.3));
+                facing.decide(k as f64 / 25.0, &seen, &config);
+            }
+            let back = cues(0.3 + PI, [2.0, 0.0, 1.0], None);
+            (0..250)
+                .position(|k| {
+                    facing
+                        .decide(1.96 + gap + k as f64 / 25.0, &back, &config)
+                        .turned
+                })
+                .expect("the labels turn the track round in the end")
+        };
+        let turns: Vec<usize> = [0.04, 0.5, 1.0, 3.0].map(frames_to_turn).to_vec();
+        assert!(turns.windows(2).all(|w| w[1] < w[0]), "{turns:?}");
+        assert!(turns[0] > 25 && turns[3] <= 2, "{turns:?}");
     }
 
     #[test]
