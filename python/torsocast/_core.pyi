@@ -297,7 +297,7 @@ class PersonConfig:
         """Time constant (s) over which the recent evidence for which way the chest faces is
         forgotten: what makes a heading confident (``heading_confident``, ``facing_evidence``).
         The side itself is decided on evidence forgotten as the heading moves, and only slowly
-        with time."""
+        with time; while the torso goes unseen, both are forgotten over this time constant."""
     @property
     def face_weight(self) -> float:
         """Weight of the nose standing in front of the shoulders, relative to the labels'."""

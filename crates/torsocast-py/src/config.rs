@@ -240,7 +240,7 @@ frozen_config!(PersonConfig, {
     /// Time constant (s) over which the recent evidence for which way the chest faces is
     /// forgotten: what makes a heading confident (``heading_confident``, ``facing_evidence``).
     /// The side itself is decided on evidence forgotten as the heading moves, and only slowly
-    /// with time.
+    /// with time; while the torso goes unseen, both are forgotten over this time constant.
     #[getter]
     fn facing_memory(&self) -> f64 {
         self.inner.facing.memory
