@@ -252,18 +252,42 @@ fn depth_lookup_17_keypoints(bencher: Bencher) {
 /// for each confirmed track: everything outside the model in one frame, without Python.
 #[divan::bench]
 fn tracker_step_ten_people(bencher: Bencher) {
+    bench_tracker_step(bencher, |_, _| false);
+}
+
+/// As `tracker_step_ten_people`, with two of the ten people undetected in turn, each for
+/// `HIDDEN_FRAMES` frames: the tracker keeps their tracks unmatched (under `max_missing`),
+/// looks for them where their forecasts put them and takes them up again when seen.
+#[divan::bench]
+fn tracker_step_ten_people_two_unseen(bencher: Bencher) {
+    bench_tracker_step(bencher, |person, k| person % 5 == (k / HIDDEN_FRAMES) % 5);
+}
+
+/// Frames (at 25 Hz) for which a person of `tracker_step_ten_people_two_unseen` goes unseen:
+/// 1.6 s, less than a track is kept unmatched by default.
+const HIDDEN_FRAMES: usize = 40;
+
+/// Frame `k` of ten people through `Tracker::step` and a forecast with intervals at two
+/// horizons for each confirmed track, without the detections of the people `hidden(person, k)`
+/// names.
+fn bench_tracker_step(bencher: Bencher, hidden: impl Fn(usize, usize) -> bool) {
     let frames: Vec<_> = (0..4).map(crowd_frame).collect();
     let mut tracker = Tracker::new(TrackerConfig::default()).unwrap();
     let mut out = [[0.0; 5]; 2];
+    let mut seen = Vec::with_capacity(10);
     let mut k = 0;
     let mut step = |tracker: &mut Tracker, k: usize| {
         let (depth, keypoints, cam) = &frames[k % 4];
         let image = depth::DepthImage::new(depth, 640, 480).unwrap();
+        seen.clear();
+        seen.extend(
+            (0..keypoints.len())
+                .filter(|&i| !hidden(i, k))
+                .map(|i| keypoints[i]),
+        );
         let slots: [Option<usize>; 10] = {
-            let outcomes = tracker
-                .step(k as f64 * 0.04, keypoints, &image, cam)
-                .unwrap();
-            std::array::from_fn(|d| outcomes[d].track.map(|t| t.slot))
+            let outcomes = tracker.step(k as f64 * 0.04, &seen, &image, cam).unwrap();
+            std::array::from_fn(|d| outcomes.get(d).and_then(|o| o.track).map(|t| t.slot))
         };
         for slot in slots.into_iter().flatten() {
             if tracker.forecast(slot, &[0.4, 1.0], &mut out).unwrap() {
@@ -271,7 +295,8 @@ fn tracker_step_ten_people(bencher: Bencher) {
             }
         }
     };
-    for _ in 0..100 {
+    // Long enough for every person to have been unseen once and taken up again.
+    for _ in 0..5 * HIDDEN_FRAMES + 100 {
         step(&mut tracker, k);
         k += 1;
     }
