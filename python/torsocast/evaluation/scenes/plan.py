@@ -78,8 +78,8 @@ WALK_S = (0.5, 2.5)
 #: :data:`HIDE_AT_S` (s) for a time drawn from :data:`HIDDEN_STAND_S` (s). Halfway through
 #: that stand the person is halfway through a turn round (an angle drawn from
 #: :data:`HIDDEN_TURN_DEG`, either way, at a mean rate drawn from :data:`HIDDEN_TURN_RATE_DEG`:
-#: deg, deg/s). The walker hides the person while slowing and walking off too: about one to
-#: two and a half seconds in all, either side of how long a track is kept unseen.
+#: deg, deg/s). The walker hides the person while slowing and walking off too: about one and a
+#: half to three seconds in all, either side of how long a track is kept unseen.
 HIDDEN_DISTANCE_M = (2.5, 6.0)
 HIDER_SHARE = (0.4, 0.7)
 HIDE_AT_S = (1.5, 2.5)
@@ -331,12 +331,13 @@ def _hiding_pair(catalogue: Catalogue, rng: np.random.Generator, size: Size, hal
         angle = float(rng.choice([-1.0, 1.0]) * np.radians(rng.uniform(*HIDDEN_TURN_DEG)))
         length = abs(angle) / np.radians(rng.uniform(*HIDDEN_TURN_RATE_DEG))
         across = _heading_of_walk(walker, rest) - bearing - rng.choice([-1.0, 1.0]) * np.pi / 2
+        near = rng.uniform(*HIDER_SHARE) * distance * ray
         hider = Actor(
             walker.name,
             start,
             rest,
             float(-across),
-            tuple(float(x) for x in rng.uniform(*HIDER_SHARE) * distance * ray),  # type: ignore[arg-type]
+            (float(near[0]), float(near[1])),
             random_outfit(rng),
             pauses=((rest_at - ramp, ramp, float(stand)),),
         )
