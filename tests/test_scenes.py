@@ -338,6 +338,10 @@ def test_hiding_scenes_turn_their_person_round_while_a_walker_stands_in_front():
     assert seen[0.0] and seen[6.0] and not seen[round((start + length / 2) * 2) / 2]
     with pytest.raises(ValueError, match="not several"):
         draw_scene(catalogue, 5, 7, size, pausing=True, hiding=True)
+    with pytest.raises(ValueError, match="two people"):
+        draw_scene(catalogue, 2, 7, size, people=3, hiding=True)
+    two = draw_scene(catalogue, 2, 7, size, people=2, hiding=True)
+    assert two == draw_scene(catalogue, 2, 7, size, hiding=True)
 
 
 def test_labels_show_whose_pixel_it_is_and_a_person_behind_another_is_hidden(standing):

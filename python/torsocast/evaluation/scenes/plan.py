@@ -420,11 +420,15 @@ def draw_scene(
     turn on the spot and stop (:data:`TURN_ANGLE_DEG`, :data:`STOP_S`), a ``pausing`` scene's
     walk and stop (:data:`PAUSING_MOTIONS`, :data:`STOP_RAMP_S`, :data:`STOP_S`,
     :data:`WALK_S`), a ``hiding`` scene's two people are one who turns round while the other
-    hides them (:data:`HIDDEN_DISTANCE_M`; ``people`` is not drawn); one kind at most."""
+    hides them (:data:`HIDDEN_DISTANCE_M`; ``people``, if given, must be 2); one kind at most."""
     if turning + stopping + pausing + hiding > 1:
         raise ValueError(
             "a scene's people turn steadily (turning), turn and stop (stopping), walk and stop "
             "(pausing) or turn while hidden (hiding): one kind, not several"
+        )
+    if hiding and people not in (None, 2):
+        raise ValueError(
+            f"a hiding scene has two people, one hidden and one who hides them; got people={people}"
         )
     rng = np.random.default_rng([seed, index])
     sensor = sorted(SENSORS)[int(rng.integers(len(SENSORS)))]
