@@ -288,14 +288,14 @@ impl Facing {
         let reference = recent[1].atan2(recent[0]);
         let elapsed = self.last.map_or(0.0, |(last_t, _)| (t - last_t).max(0.0));
         let (dt, candidate) = match (self.heading, self.last) {
-            (Some(h), Some((last_t, _))) => {
+            (Some(h), Some(_)) => {
                 let side = if (labelled - reference).cos() >= 0.0 {
                     labelled
                 } else {
                     labelled + PI
                 };
                 let near = unwrap_near(side, h);
-                ((t - last_t).clamp(0.0, MAX_STEP), near)
+                (elapsed.min(MAX_STEP), near)
             }
             _ => (UNIT_STEP, labelled),
         };

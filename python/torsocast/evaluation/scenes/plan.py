@@ -275,6 +275,20 @@ def _pauses(
     return tuple(out)
 
 
+def _clip_timing(rng: np.random.Generator, motion: Motion, duration: float) -> tuple[float, float]:
+    """Where a scene of ``duration`` s plays ``motion``: the clip time at the scene's start, drawn
+    (a clip shorter than the scene starts at a random moment of it: the person appears), and the
+    clip time the person is placed and turned at, the scene's middle (within the clip)."""
+    spare = motion.duration - duration
+    start = float(rng.uniform(0.0, spare) if spare >= 0 else -rng.uniform(0.0, -spare))
+    return start, float(np.clip(start + duration / 2, 0.0, motion.duration))
+
+
+def _separation_times(size: Size) -> np.ndarray:
+    """The scene times (s) at which people are kept :data:`MIN_SEPARATION` apart."""
+    return np.arange(0.0, size.duration + 1e-9, 0.1)
+
+
 def _apart(paths: list[np.ndarray], path: np.ndarray) -> bool:
     """Whether a pelvis ``path`` keeps :data:`MIN_SEPARATION` from each of ``paths`` (NaN where
     the person is absent) at every instant."""
@@ -316,7 +330,7 @@ def _hiding_pair(catalogue: Catalogue, rng: np.random.Generator, size: Size, hal
     """A person who turns round while a walker stands between them and the camera, and that
     walker (:data:`HIDDEN_DISTANCE_M` and the constants after it); no pair where 30 draws could
     not keep them :data:`MIN_SEPARATION` apart."""
-    times = np.arange(0.0, size.duration + 1e-9, 0.1)
+    times = _separation_times(size)
     for _attempt in range(30):
         bearing = rng.uniform(-0.6, 0.6) * half_fov
         ray = np.array([np.cos(bearing), np.sin(bearing)])
@@ -342,12 +356,11 @@ def _hiding_pair(catalogue: Catalogue, rng: np.random.Generator, size: Size, hal
             pauses=((rest_at - ramp, ramp, float(stand)),),
         )
         motion = catalogue.draw(rng, frozenset({walker.name}), TURNING_MOTIONS)
-        spare = motion.duration - size.duration
-        clip_start = rng.uniform(0.0, spare) if spare >= 0 else -rng.uniform(0.0, -spare)
+        clip_start, anchor = _clip_timing(rng, motion, size.duration)
         hidden = Actor(
             motion.name,
-            float(clip_start),
-            float(np.clip(clip_start + size.duration / 2, 0.0, motion.duration)),
+            clip_start,
+            anchor,
             float(rng.uniform(-np.pi, np.pi)),
             (float(distance * ray[0]), float(distance * ray[1])),
             random_outfit(rng),
@@ -372,29 +385,26 @@ def _people(
     """Up to ``people`` people of the motion categories ``kinds`` (any where None), each placed
     and turned at random as :func:`draw_scene` says, kept :data:`MIN_SEPARATION` apart (one
     that 30 draws could not place is left out)."""
-    times = np.arange(0.0, size.duration + 1e-9, 0.1)
+    times = _separation_times(size)
     actors: list[Actor] = []
     paths: list[np.ndarray] = []
     for _ in range(people):
         for _attempt in range(30):
             avoid = frozenset(a.motion for a in actors)
             motion = catalogue.draw(rng, avoid, kinds)
-            spare = motion.duration - size.duration
-            # A clip shorter than the scene starts at a random moment of it (the person appears).
-            start = rng.uniform(0.0, spare) if spare >= 0 else -rng.uniform(0.0, -spare)
-            anchor = float(np.clip(start + size.duration / 2, 0.0, motion.duration))
+            start, anchor = _clip_timing(rng, motion, size.duration)
             distance = rng.uniform(*DISTANCE_M)
             bearing = rng.uniform(-0.8, 0.8) * half_fov
             actor = Actor(
                 motion.name,
-                float(start),
+                start,
                 anchor,
                 float(rng.uniform(-np.pi, np.pi)),
                 (float(distance * np.cos(bearing)), float(distance * np.sin(bearing))),
                 random_outfit(rng),
                 turn=_turn_rate(rng) if turning else 0.0,
                 bursts=_bursts(rng, size.duration) if stopping else (),
-                pauses=_pauses(rng, motion, float(start), size.duration) if pausing else (),
+                pauses=_pauses(rng, motion, start, size.duration) if pausing else (),
             )
             path = _pelvis_path(actor, motion, times)
             if _apart(paths, path):
