@@ -17,6 +17,7 @@ from conftest import pose_of, shared_path
 from torsocast import PersonConfig, wrap_angle
 from torsocast.cli import main
 from torsocast.datasets import cmu
+from torsocast.evaluation.scenes.faults import DROP_BURST, STALL_AFTER, Faults
 from torsocast.evaluation.scenes.oracle import Oracle, lift_at_true_pixels, put_joints_at_truth
 from torsocast.evaluation.scenes.plan import (
     FIRST_TURN_S,
@@ -672,6 +673,12 @@ def test_the_label_oracle_refuses_scenes_it_cannot_replay(tmp_path, capsys):
     assert main([*args[:-1], "--oracle-joints", "hips", "--oracle-pixels", "hips"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "both name 'hips'" in err
+    # Sensor faults alike, and a share of frames out of range refused in one line.
+    assert main([*args[:-1], "--drop", "0.2"]) == 2
+    assert "--drop 0.2 replays recorded detections" in capsys.readouterr().err
+    assert main([*args[:-1], "--drop", "1.5"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--drop: expected a share of the frames" in err
 
 
 #: The columns of the records the comparison tests write: labels, then forecast errors.
@@ -892,7 +899,9 @@ def test_one_person_turned_away_is_recovered_with_yolo(standing, yolo640):
     check_recovery(recover(facing(standing, 0.0, (2.5, 0.0)), standing, yolo640), azimuth=8)
 
 
-def test_a_replayed_scene_scores_as_the_live_one(tmp_path):
+def recorded_walk(cache):
+    """A one-person scene of a walk, its catalogue and model, recorded live into ``cache``:
+    the spec, catalogue, model, the live run's score and its number of frames."""
     from torsocast.evaluation.scenes.run import run_scene
 
     walk = Motion("walk", "test", cmu.load_clip(cmu.bundled_clips()["train_walking_2"]), cmu.RATE_HZ)
@@ -905,7 +914,14 @@ def test_a_replayed_scene_scores_as_the_live_one(tmp_path):
 
     model = open_model()
     catalogue: Any = Catalogue()  # the one motion the scene asks for, as a split's catalogue gives it
-    live, _, frames = run_scene(spec, catalogue, model, cache=tmp_path)
+    live, _, frames = run_scene(spec, catalogue, model, cache=cache)
+    return spec, catalogue, model, live, frames
+
+
+def test_a_replayed_scene_scores_as_the_live_one(tmp_path):
+    from torsocast.evaluation.scenes.run import run_scene
+
+    spec, catalogue, model, live, frames = recorded_walk(tmp_path)
     assert frames == 26 and len(list(tmp_path.glob("*.npz"))) == 1
     replayed, picture, _ = run_scene(spec, catalogue, model, cache=tmp_path)
     assert picture is None and len(live.forecasts["t"]) > 0
@@ -929,6 +945,51 @@ def test_a_replayed_scene_scores_as_the_live_one(tmp_path):
     pixels, _, _ = run_scene(spec, catalogue, model, cache=tmp_path, oracle=true_pixels)
     error = np.degrees(np.abs(np.asarray(pixels.recovery["azimuth"], dtype=float)))
     assert np.nanmedian(errors["oracle"]) < np.nanmedian(error) < np.nanmedian(errors["recorded"])
+
+
+def test_sensor_faults_drop_their_share_in_bursts_stall_once_and_keep_stamps_increasing():
+    long = SceneSpec("dev-0-001", "d435", 30.0, 1.2, -10.0, 1000.0, ())
+    given, stamps = Faults(drop=0.2).frames(long)
+    assert abs((~given).mean() - 0.2) < 0.01
+    edges = np.flatnonzero(np.diff(np.r_[1, given.astype(int), 1]))  # where runs of drops start and end
+    bursts = edges[1::2] - edges[::2]
+    assert abs(bursts.mean() - DROP_BURST) < 0.1
+    assert np.array_equal(stamps, long.times)  # no jitter asked
+    # Drawn from the scene's name: the same frames on every run, others in another scene.
+    assert np.array_equal(Faults(drop=0.2).frames(long)[0], given)
+    other = SceneSpec("dev-0-002", "d435", 30.0, 1.2, -10.0, 1000.0, ())
+    assert not np.array_equal(Faults(drop=0.2).frames(other)[0], given)
+    # One stall of a second, a second or more in; stamps within 10 ms of the frames' times.
+    scene = SceneSpec("dev-0-001", "d435", 30.0, 1.2, -10.0, 6.0, ())
+    given, stamps = Faults(stall=1.0, jitter=0.01).frames(scene)
+    missing = np.flatnonzero(~given)
+    assert len(missing) == 30 and np.all(np.diff(missing) == 1)
+    assert scene.times[missing[0]] >= STALL_AFTER
+    assert np.all(np.diff(stamps) > 0) and 0.005 < np.abs(stamps - scene.times).max() <= 0.01
+    # Refused, each in one line naming its option.
+    for option, bad in (("drop", 1.0), ("stall", -1.0), ("jitter", math.nan)):
+        with pytest.raises(ValueError, match=f"^--{option}: expected"):
+            Faults(**{option: bad})
+    with pytest.raises(ValueError, match="frames come every 0.033 s"):
+        Faults(jitter=0.02).frames(scene)
+    with pytest.raises(ValueError, match="lasts 6 s"):
+        Faults(stall=5.5).frames(scene)
+
+
+def test_a_replay_with_sensor_faults_gives_the_tracker_only_the_frames_they_leave(tmp_path):
+    from torsocast.evaluation.scenes.run import run_scene
+
+    spec, catalogue, model, live, _ = recorded_walk(tmp_path)
+    faults = Faults(drop=0.3, stall=0.5, jitter=0.02)
+    given, _ = faults.frames(spec)
+    replayed, _, frames = run_scene(spec, catalogue, model, cache=tmp_path, faults=faults)
+    # Records only of the frames given, kept at the time each was taken, not at its stamp.
+    assert 0 < frames == given.sum() < len(spec.times)
+    assert sorted(set(replayed.recovery["t"])) == sorted(set(spec.times[given]) & set(live.recovery["t"]))
+    assert len(replayed.forecasts["t"]) > 0
+    # A live run takes no faults: they apply to recorded detections.
+    with pytest.raises(ValueError, match="--drop 0.3 --stall 0.5 --jitter 0.02 replays recorded"):
+        run_scene(spec, catalogue, model, cache=tmp_path / "empty", faults=faults)
 
 
 def test_a_replay_without_figures_writes_the_live_runs_records_and_renders_nothing(tmp_path, monkeypatch):

@@ -136,6 +136,7 @@ def _eval_h36m(args: argparse.Namespace) -> int:
 
 def _eval_scenes(args: argparse.Namespace) -> int:
     from .evaluation.scenes import report
+    from .evaluation.scenes.faults import Faults
     from .evaluation.scenes.oracle import Oracle
     from .evaluation.scenes.plan import CMU_ENV, FULL, QUICK, Catalogue, data_folder
     from .evaluation.scenes.run import YOLO_ENV, Models, evaluate
@@ -158,6 +159,7 @@ def _eval_scenes(args: argparse.Namespace) -> int:
         return 2
     try:
         oracle = Oracle.parse(args.oracle_labels, args.oracle_joints, args.oracle_pixels)
+        faults = Faults(args.drop, args.stall, args.jitter)
         catalogue = Catalogue.find(args.split, cmu_root, h36m_root)
         models = Models.open(yolo)
     except (FileNotFoundError, ValueError, RuntimeError) as e:
@@ -167,7 +169,15 @@ def _eval_scenes(args: argparse.Namespace) -> int:
     draw = not args.no_figures and _can_draw()
     try:
         bench = evaluate(
-            catalogue, models, args.seed, args.quick, size, cache=cache, oracle=oracle, picture=draw
+            catalogue,
+            models,
+            args.seed,
+            args.quick,
+            size,
+            cache=cache,
+            oracle=oracle,
+            picture=draw,
+            faults=faults,
         )
     except ValueError as e:
         print(f"torsocast eval scenes: {e}", file=sys.stderr)
@@ -428,6 +438,29 @@ def main(argv: list[str] | None = None) -> int:
         "lifted there from the depth image rendered again: the flips a perfect 2D model would "
         "leave (a diagnostic, not a result; every frame is rendered again, so it takes minutes "
         "where a replay takes seconds)",
+    )
+    sc.add_argument(
+        "--drop",
+        type=float,
+        default=0.0,
+        metavar="FRACTION",
+        help="replay the --cache with this share of each scene's frames never given to the tracker, "
+        "dropped in bursts of two frames on average (a busy computer, a lost packet)",
+    )
+    sc.add_argument(
+        "--stall",
+        type=float,
+        default=0.0,
+        metavar="SECONDS",
+        help="replay the --cache with the camera sending nothing for this long, once in each scene",
+    )
+    sc.add_argument(
+        "--jitter",
+        type=float,
+        default=0.0,
+        metavar="SECONDS",
+        help="replay the --cache with each frame stamped up to this far either side of when it was "
+        "taken (under half a frame's interval)",
     )
     sc.set_defaults(run=_eval_scenes)
     cp = ev_sub.add_parser(

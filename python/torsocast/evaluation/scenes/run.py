@@ -17,6 +17,7 @@ from ...pipeline import FrameResult, Pipeline
 from ...progress import Progress
 from ...sources import Frame
 from ...synthetic.scenes import RenderedScene, SceneSpec
+from .faults import NO_FAULTS, Faults
 from .oracle import NO_ORACLE, Oracle
 from .plan import FULL, QUICK, Catalogue, Size, draw_scene
 from .score import SceneScore, Scorer, assign
@@ -86,7 +87,9 @@ def _cache_file(cache: Path, spec: SceneSpec, model: KeypointModel) -> Path:
 
 
 def _live(scene: RenderedScene, pipeline: Pipeline, record: dict[str, list] | None):  # type: ignore[no-untyped-def, type-arg]
-    """Renders every frame and runs the whole pipeline; ``record`` keeps what a replay needs."""
+    """Renders every frame and runs the whole pipeline; ``record`` keeps what a replay needs.
+    Yields each frame's time, the frame, the pipeline's result, the detections' owners and who
+    is visible."""
     for frame in scene:
         result = pipeline(frame)
         owner = assign(
@@ -98,19 +101,25 @@ def _live(scene: RenderedScene, pipeline: Pipeline, record: dict[str, list] | No
             record["joints"].append(pipeline.tracker.lifted)
             record["owner"].append(np.asarray(owner, dtype=np.int64))
             record["visible"].append(visible)
-        yield frame, result, owner, visible
+        yield frame.time, frame, result, owner, visible
 
 
-def _replay(scene: RenderedScene, pipeline: Pipeline, path: Path, oracle: Oracle):  # type: ignore[no-untyped-def]
-    """The frames' detections and lifted joints as recorded, through the tracking stages only;
-    with an ``oracle``, what it asks put right by the truth first (:mod:`.oracle`)."""
+def _replay(scene: RenderedScene, pipeline: Pipeline, path: Path, oracle: Oracle, faults: Faults):  # type: ignore[no-untyped-def]
+    """The frames' detections and lifted joints as recorded, through the tracking stages only,
+    as :func:`_live` yields them; with an ``oracle``, what it asks put right by the truth first
+    (:mod:`.oracle`), and with ``faults`` the frames dropped and stamped as they say
+    (:mod:`.faults`; the time yielded is still the frame's own)."""
     # Each item of an .npz is read (and decompressed) again on every access: read them once.
     with np.load(path) as archive:
         data = {name: archive[name] for name in archive.files}
     ends = np.cumsum(data["people"])
     # The pixels' oracle lifts from the depth images: the frames are rendered again.
     rendered = iter(scene) if oracle.pixels else None
+    given, stamps = faults.frames(scene.spec)
     for k, t in enumerate(scene.spec.times):
+        again = next(rendered) if rendered is not None else None
+        if not given[k]:
+            continue
         rows = slice(ends[k] - data["people"][k], ends[k])
         keypoints, joints = data["keypoints"][rows], data["joints"][rows]
         owner = data["owner"][rows].tolist()
@@ -118,13 +127,12 @@ def _replay(scene: RenderedScene, pipeline: Pipeline, path: Path, oracle: Oracle
         if oracle:
             keypoints, joints = keypoints.copy(), joints.copy()  # put right in place
             skeletons = [scene.joints_at(i, float(t)) for i in range(len(scene.clips))]
-            again = next(rendered) if rendered is not None else None
             oracle.apply(keypoints, joints, owner, truth, skeletons, again, pipeline.tracker_config)
         detections = Detections(keypoints, np.zeros((len(keypoints), 4)), np.ones(len(keypoints)))
-        frame = Frame(k, float(t), np.zeros((1, 1, 3), np.uint8), None, scene.camera)
+        frame = Frame(k, float(stamps[k]), np.zeros((1, 1, 3), np.uint8), None, scene.camera)
         frame.extra["truth"] = truth
         result = pipeline.track(frame, detections, joints, time.perf_counter())
-        yield frame, result, owner, data["visible"][k]
+        yield float(t), frame, result, owner, data["visible"][k]
 
 
 def run_scene(
@@ -134,32 +142,34 @@ def run_scene(
     horizons: Sequence[float] = HORIZONS,
     cache: Path | None = None,
     oracle: Oracle = NO_ORACLE,
+    faults: Faults = NO_FAULTS,
 ) -> tuple[SceneScore, FrameResult | None, int]:
     """One scene through the pipeline: its :class:`~.score.SceneScore`, the frame with the most
-    forecasts (None when replayed) and its number of frames. With a ``cache`` folder, the
-    model's detections and the lifted joints of each frame are kept there, and a later run of
-    the same scene with the same model replays them through the tracking stages alone (for
-    changes after the model: tracking, the per-person chain, forecasting, scoring). With an
-    ``oracle``, a replay puts what it asks right by the truth first (:mod:`.oracle`: bounds and
-    diagnostics, not results)."""
+    forecasts (None when replayed) and the number of frames the tracker was given. With a
+    ``cache`` folder, the model's detections and the lifted joints of each frame are kept there,
+    and a later run of the same scene with the same model replays them through the tracking
+    stages alone (for changes after the model: tracking, the per-person chain, forecasting,
+    scoring). With an ``oracle``, a replay puts what it asks right by the truth first
+    (:mod:`.oracle`: bounds and diagnostics, not results); with ``faults``, it drops and stamps
+    the frames as they say (:mod:`.faults`)."""
     scene = RenderedScene(spec, {a.motion: catalogue.motion(a.motion) for a in spec.actors})
     pipeline = Pipeline(model, horizons)
     scorer = Scorer(scene, list(horizons), pipeline.tracker_config.person.min_score)
     path = _cache_file(cache, spec, model) if cache is not None else None
     record: dict[str, list] | None = defaultdict(list) if path is not None else None  # type: ignore[type-arg]
     replaying = path is not None and path.is_file()
-    if oracle and not replaying:
-        raise ValueError(
-            f"{oracle.options} replays recorded detections, and {spec.name} has none in the cache"
-        )
+    if (oracle or faults) and not replaying:
+        options = " and ".join(o for o in (oracle.options, faults.options) if o)
+        raise ValueError(f"{options} replays recorded detections, and {spec.name} has none in the cache")
     frames = (
-        _replay(scene, pipeline, path, oracle)  # type: ignore[arg-type]
+        _replay(scene, pipeline, path, oracle, faults)  # type: ignore[arg-type]
         if replaying
         else _live(scene, pipeline, record)
     )
-    best, best_count = None, 0
-    for frame, result, owner, visible in frames:
-        scorer(frame.time, result, owner, visible, frame.extra["truth"])
+    best, best_count, given = None, 0, 0
+    for t, frame, result, owner, visible in frames:
+        scorer(t, result, owner, visible, frame.extra["truth"], stamp=frame.time)
+        given += 1
         if not replaying and len(result.forecasts) > best_count:
             best, best_count = result, len(result.forecasts)
     if path is not None and not replaying and record is not None:
@@ -172,7 +182,7 @@ def run_scene(
             owner=np.concatenate(record["owner"]),
             visible=np.array(record["visible"]).reshape(len(spec.times), len(spec.actors)),
         )
-    return scorer.finish(), best, len(scene)
+    return scorer.finish(), best, given
 
 
 def evaluate(
@@ -185,9 +195,11 @@ def evaluate(
     cache: Path | None = None,
     oracle: Oracle = NO_ORACLE,
     picture: bool = True,
+    faults: Faults = NO_FAULTS,
 ) -> Benchmark:
-    """Draws the split's scenes for ``seed`` and runs them all (``cache`` and ``oracle``: see
-    :func:`run_scene`; an oracle needs every scene recorded, and says so before any work).
+    """Draws the split's scenes for ``seed`` and runs them all (``cache``, ``oracle`` and
+    ``faults``: see :func:`run_scene`; an oracle or faults need every scene recorded, and say so
+    before any work, as faults a scene cannot take).
     Without ``picture``, a run whose every scene was replayed keeps no frame for the report's
     figure (it would render the most crowded scene again for it)."""
     size = size or (QUICK if quick else FULL)
@@ -209,24 +221,27 @@ def evaluate(
             f"{len(skipped)} scenes with several people left out"
         )
     bench.specs = specs
-    if oracle:
+    if oracle or faults:
         missing = [
             s.name
             for s in specs
             if cache is None or not _cache_file(cache, s, models.for_scene(s)).is_file()  # type: ignore[arg-type]
         ]
         if missing:
+            options = " and ".join(o for o in (oracle.options, faults.options) if o)
             raise ValueError(
-                f"{oracle.options} replays recorded detections: {len(missing)} of the {len(specs)} "
+                f"{options} replays recorded detections: {len(missing)} of the {len(specs)} "
                 "scenes have none (run eval scenes with the same --cache first)"
             )
-        bench.notes.extend(oracle.notes())
+    bench.notes.extend(oracle.notes())
+    for spec in specs:
+        faults.frames(spec)  # a fault a scene cannot take is said now, not after the run
     bar = Progress(len(specs), f"eval scenes ({catalogue.split})") if progress else None
     best_count = 0
     for spec in specs:
         model = models.for_scene(spec)
         assert model is not None
-        score, best, frames = run_scene(spec, catalogue, model, cache=cache, oracle=oracle)
+        score, best, frames = run_scene(spec, catalogue, model, cache=cache, oracle=oracle, faults=faults)
         for table in ("recovery", "forecasts", "identity"):
             for key, values in getattr(score, table).items():
                 getattr(bench, table)[key].extend(values)
@@ -242,4 +257,6 @@ def evaluate(
         model = models.for_scene(crowd)
         assert model is not None
         _, bench.picture, _ = run_scene(crowd, catalogue, model)
+    total = sum(len(s.times) for s in specs)
+    bench.notes.extend(faults.notes(total - bench.frames, total))
     return bench

@@ -178,10 +178,17 @@ class Scorer:
         table["tilt"].append(tilt_angle(truth))
 
     def __call__(
-        self, t: float, result: FrameResult, owner: list[int], visible: npt.NDArray[np.bool_], truth: F64
+        self,
+        t: float,
+        result: FrameResult,
+        owner: list[int],
+        visible: npt.NDArray[np.bool_],
+        truth: F64,
+        stamp: float | None = None,
     ) -> None:
-        """Scores one frame's ``result``: ``owner`` is the person index of each detection (-1 for
-        none, :func:`assign`), ``visible`` which people count, ``truth`` their poses."""
+        """Scores one frame's ``result``, taken at ``t``: ``owner`` is the person index of each
+        detection (-1 for none, :func:`assign`), ``visible`` which people count, ``truth`` their
+        poses; ``stamp``, the time the tracker was told (``t`` where None)."""
         by_actor = {a: d for d, a in enumerate(owner) if a >= 0}
         self.score.false_positives += sum(1 for a in owner if a < 0)
         for tracked in result.people:  # the velocity reference sees what the tracks see
@@ -191,7 +198,7 @@ class Scorer:
             # Keyed by the track's key, unique over the tracker's life.
             f = self.velocity.setdefault(tracked.key, Forecaster(ForecasterConfig("constant_velocity")))
             try:
-                f.update(obs.pose, t, 1.0)
+                f.update(obs.pose, t if stamp is None else stamp, 1.0)
             except TorsocastError:
                 pass
         for index in np.flatnonzero(visible):
