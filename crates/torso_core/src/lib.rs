@@ -95,6 +95,12 @@ pub const AZIMUTH: usize = 3;
 /// Index of the elevation in a [`Pose`].
 pub const ELEVATION: usize = 4;
 
+/// The longest step (s) between two frames of a camera that is watching: five frames a second,
+/// half the slowest rate of the scenes benchmark. Of a longer step, the rest is time the camera
+/// did not see (a stalled sensor, dropped frames): the side of a torso unseen so long is
+/// forgotten ([`sides`]), and a person unseen so long is looked for further away ([`tracker`]).
+pub const MAX_FRAME_STEP: f64 = 0.2;
+
 /// Helpers shared by the unit tests.
 #[cfg(test)]
 pub(crate) mod testing {

@@ -45,6 +45,7 @@ use crate::coco::{self, Joints, N_JOINTS};
 use crate::history::unwrap_near;
 use crate::plane::shoulder_heading;
 use crate::vec3::{distance, dot, finite, sub};
+use crate::MAX_FRAME_STEP;
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 
 /// A nose less than this (m) in front of the shoulders' midpoint, horizontally, says nothing.
@@ -84,10 +85,9 @@ const FULL_SPEED_SPAN: f64 = 0.5;
 /// Time constant (s) of the smoothed velocity the motion cue reads.
 const VELOCITY_TIME: f64 = 0.5;
 /// Evidence is counted per this much time (s), so that a camera's frame rate does not change
-/// how fast it builds; a longer step than `MAX_STEP` counts as `MAX_STEP`, the rest of it as
+/// how fast it builds; a longer step than [`MAX_FRAME_STEP`] counts as that, the rest of it as
 /// time unseen.
 const UNIT_STEP: f64 = 0.04;
-const MAX_STEP: f64 = 0.2;
 
 /// How much each cue counts, and for how long.
 ///
@@ -295,7 +295,7 @@ impl Facing {
                     labelled + PI
                 };
                 let near = unwrap_near(side, h);
-                (elapsed.min(MAX_STEP), near)
+                (elapsed.min(MAX_FRAME_STEP), near)
             }
             _ => (UNIT_STEP, labelled),
         };
@@ -325,7 +325,7 @@ impl Facing {
             vote +=
                 config.motion_weight * strength * agrees(self.velocity[1].atan2(self.velocity[0]));
         }
-        // A step longer than `MAX_STEP` counts as `MAX_STEP`, and the rest of it the torso went
+        // A step longer than `MAX_FRAME_STEP` counts as that, and the rest of it the torso went
         // unseen (no decision): a person may turn round unseen, so both kinds of evidence are
         // forgotten over that time as fast as the recent evidence is.
         let unseen = (elapsed - dt).max(0.0);

@@ -434,7 +434,9 @@ frozen_config!(TrackerConfig, {
     }
 
     /// Largest distance (m) between where a track's person is expected (the last torso
-    /// centre, moved on at the track's walking velocity while unseen) and its detection's.
+    /// centre, moved on at the track's walking velocity while unseen) and its detection's;
+    /// widened by 1 m per second the camera sent no frame (beyond 0.2 s between two frames)
+    /// since the track was last matched.
     #[getter]
     fn gate(&self) -> f64 {
         self.inner.gate
