@@ -9,11 +9,11 @@
 //! at the track's walking velocity for the time unseen where its history is a steady walk) and
 //! the detection's torso centre; the optimal assignment ([`Assignment`]) is taken, and pairs
 //! further apart than `gate` are refused, the gate widened at [`BLIND_PACE`] for the time the
-//! camera sent no frame since the track was last matched. An unmatched detection opens a tentative track,
-//! which is confirmed (and given the next id) after `min_hits` matched frames, unless it lies
-//! within [`MIN_SEPARATION`] of a detection a track took: the same body seen twice. A
-//! confirmed track unmatched for `max_missing` seconds is dropped, a tentative one at its first
-//! miss, and any track unmatched in a frame where its person is expected within
+//! camera sent no frame since the track was last matched. An unmatched detection opens a
+//! tentative track, which is confirmed (and given the next id) after `min_hits` matched frames,
+//! unless it lies within [`MIN_SEPARATION`] of a detection a track took: the same body seen
+//! twice. A confirmed track unmatched for `max_missing` seconds is dropped, a tentative one at
+//! its first miss, and any track unmatched in a frame where its person is expected within
 //! [`MIN_SEPARATION`] of a track's matched in it: the same body tracked twice (the two would
 //! take its detection in turns, and its reported id change every frame).
 //!
@@ -693,6 +693,7 @@ impl Tracker {
         };
         let s = &mut self.slots[slot];
         s.hits = 0;
+        s.blind = 0.0;
         s.id = None;
         s.serial = self.next_serial;
         self.next_serial += 1;
