@@ -1,5 +1,6 @@
 """Multi-person tracking, in the core (``torso_core::tracker``): detections to tracks by their 3D
-torso centres (the optimal assignment within ``TrackerConfig.gate``), tentative tracks confirmed
+torso centres (the optimal assignment within ``TrackerConfig.gate``, widened by 1 m per second
+the camera sent no frame beyond 0.2 s between two frames), tentative tracks confirmed
 after ``min_hits`` matched frames and given the next id, a confirmed track dropped after
 ``max_missing`` s unmatched (a tentative one at its first miss), one person chain per track. A
 detection whose torso centre lies within ``MIN_SEPARATION`` (0.25 m) of one a track took is the
