@@ -30,6 +30,13 @@
 //! exception: it mixes its trends freely, one mix for both its coordinates over the ground. A
 //! walk that has ended ([`Trend::walk_ended`]) is held still over the ground, whatever its
 //! scores: they are of the walk.
+//!
+//! A gap that restarts the forecaster's history (a person hidden, a camera that stalled) drops
+//! the predictions pending on the old history, not the scores: a track found again after a gap
+//! forecasts from a short history, and its record of which candidates came true, and of how far
+//! its forecasts missed, is still the same person's and detector's (forgotten with time as
+//! ever). Forgetting them there left a person turning on the spot held still for seconds after a
+//! stall (docs/benchmark_log.md, "a track's record kept across a gap").
 
 use crate::error::{check_positive, Error, Result};
 use crate::quantile::RecentQuantile;
@@ -521,7 +528,7 @@ impl SelfCheck {
         }
     }
 
-    /// Forgets everything (a restarted history).
+    /// Forgets everything (a person's state reused for a new track).
     pub fn reset(&mut self) {
         self.drop_pending();
         self.sums = [[[[0.0; CANDIDATES]; CANDIDATES]; 5]; H];

@@ -373,8 +373,10 @@ impl Person {
         let Some(check) = self.check.as_mut() else {
             return;
         };
+        // The history a gap restarted is gone, and so are the predictions made from it; the
+        // scores stay, forgotten with time as ever: they are of the same person and detector.
         if restarted {
-            check.reset();
+            check.drop_pending();
         }
         let n = self.forecaster.len();
         let (Some(t), Some((sample, _))) =
@@ -839,6 +841,37 @@ mod tests {
         assert!(track.forecast(&[1.0], &mut ahead).unwrap());
         assert!((ahead[0][1] - (last[1] + 1.0)).abs() < 1e-6);
         assert!((ahead[0][HEIGHT] - last[HEIGHT]).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_track_found_again_after_a_gap_keeps_the_record_of_its_forecasts() {
+        // Turning on the spot at 0.8 rad/s, seen for 3 s at 25 frames per second, unseen for
+        // 0.6 s (beyond the forecaster's 0.4 s gap: its history starts again), then seen for
+        // 0.6 s more, turning on from where it was last seen. A track that saw the whole turn
+        // knows its forecasts of the turn came true and continues it 2 s ahead; a new track
+        // that saw only the last 0.6 s has not seen its turn's forecasts come true and holds it
+        // there.
+        let rate = 0.8;
+        let frame = |t: f64| person([2.0, 0.0, 1.0], rate * t.min(3.0).max(t - 0.6), true);
+        let mut found_again = Person::new(centres_given()).unwrap();
+        let mut new = Person::new(centres_given()).unwrap();
+        let mut restarted = 0;
+        for k in (0..=75).chain(90..=105) {
+            let t = k as f64 / 25.0;
+            let (joints, scores) = frame(t);
+            let obs = found_again.update(t, &joints, &scores, CAMERA).unwrap();
+            restarted += usize::from(obs.grid.restarted);
+            if k >= 90 {
+                new.update(t, &joints, &scores, CAMERA).unwrap();
+            }
+        }
+        assert_eq!(restarted, 1);
+        let now = rate * (105.0 / 25.0 - 0.6);
+        let (mut kept, mut fresh) = ([[0.0; 5]], [[0.0; 5]]);
+        assert!(found_again.forecast(&[2.0], &mut kept).unwrap());
+        assert!(new.forecast(&[2.0], &mut fresh).unwrap());
+        assert!(angle_error(kept[0][AZIMUTH], now + 2.0 * rate) < 0.1);
+        assert!(angle_error(fresh[0][AZIMUTH], now) < 0.1);
     }
 
     #[test]
