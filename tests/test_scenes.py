@@ -795,6 +795,34 @@ def test_two_runs_compare_by_the_same_draws_of_their_scenes(tmp_path, capsys):
     assert "not a scenes benchmark record (no azimuth column)" in err
 
 
+def test_a_run_with_dropped_frames_compares_on_the_frames_both_runs_hold(tmp_path, capsys):
+    # Ten scenes of ten frames, none flipped; a replay that dropped frames 0 to 4 of every scene
+    # and flipped frame 5. On their common frames (5 to 9) it flips one in five; a run of other
+    # frames is refused unless asked to compare on the common ones.
+    def write(folder, frames, flipped):
+        folder.mkdir()
+        with (folder / "recovery.csv").open("w") as f:
+            f.write("scene,t,actor,estimated,azimuth\n")
+            for scene in range(10):
+                for k in frames:
+                    azimuth = 3.0 if k in flipped else 0.1
+                    f.write(f"s{scene},{k / 10},0,True,{azimuth}\n")
+
+    write(tmp_path / "clean", range(10), ())
+    write(tmp_path / "dropped", range(5, 10), (5,))
+    args = ["eval", "compare", str(tmp_path / "clean"), str(tmp_path / "dropped")]
+    assert main(args) == 2
+    assert "different scenes or frames" in capsys.readouterr().err
+    assert main([*args, "--common"]) == 0
+    out = capsys.readouterr().out
+    assert "| 10 scenes with someone in view |" in out
+    assert "| flips (%) | 0.00 | 20.00 | +20.00 | +20.00 to +20.00 |" in out
+    # Runs that share no person-frame say so.
+    write(tmp_path / "elsewhere", range(10, 12), ())
+    assert main(["eval", "compare", str(tmp_path / "clean"), str(tmp_path / "elsewhere"), "--common"]) == 2
+    assert "share no person-frame" in capsys.readouterr().err
+
+
 def test_interval_cells_are_counted_against_the_calibrated_band():
     # One category, two horizons, 20 forecasts each: at 0.4 s every component's truth falls
     # inside 16 of its 20 intervals (80 %); at 1 s the centre's x inside 11 (55 %; y and z 16,

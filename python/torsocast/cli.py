@@ -190,6 +190,7 @@ def _eval_scenes(args: argparse.Namespace) -> int:
 
 def _eval_compare(args: argparse.Namespace) -> int:
     from .evaluation.scenes.compare import (
+        common,
         compare,
         compare_coverage,
         compare_forecasts,
@@ -199,16 +200,22 @@ def _eval_compare(args: argparse.Namespace) -> int:
         pool,
         read,
         read_forecasts,
+        within,
     )
 
     pairs = [(args.before, args.after), *(args.also or [])]
     try:
-        recovered = [pool([read(pair[k]) for pair in pairs]) for k in (0, 1)]
+        runs = [(read(before), read(after)) for before, after in pairs]
+        if args.common:
+            runs = [common(*run) for run in runs]
+        recovered = [pool([run[k] for run in runs]) for k in (0, 1)]
         result = compare(*recovered)
         # Forecasts are compared where every run recorded them.
         found = [[f for pair in pairs if (f := read_forecasts(pair[k])) is not None] for k in (0, 1)]
         whole = all(len(side) == len(pairs) for side in found)
         scenes = recovered[0]["scene"]
+        if args.common:
+            found = [[within(f, scenes) for f in side] for side in found]
         cells = compare_forecasts(pool(found[0]), pool(found[1]), scenes) if whole else None
         coverage = compare_coverage(list(zip(found[0], found[1]))) if whole else None
     except (OSError, ValueError, KeyError) as e:
@@ -475,6 +482,12 @@ def main(argv: list[str] | None = None) -> int:
         action="append",
         metavar=("BEFORE", "AFTER"),
         help="a further pair of runs on other scenes (another --seed), pooled with the first; repeatable",
+    )
+    cp.add_argument(
+        "--common",
+        action="store_true",
+        help="compare the flips on the person-frames both runs hold (a replay with --drop or --stall "
+        "against one without); without it, runs of different frames are refused",
     )
     cp.set_defaults(run=_eval_compare)
     fc.set_defaults(run=_forecast)

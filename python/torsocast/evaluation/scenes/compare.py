@@ -60,6 +60,32 @@ def read(folder: str | Path) -> Columns:
     return {k: np.array([r[k] for r in rows]) for k in rows[0]}
 
 
+def common(before: Columns, after: Columns) -> tuple[Columns, Columns]:
+    """Both runs' records of the person-frames both of them hold, in each run's order: a replay
+    with sensor faults (``--drop``, ``--stall``) scores only the frames it gave the tracker, and
+    against a replay without them it compares on those. Refuses runs that share none."""
+
+    def keys(cols: Columns) -> list[tuple[str, ...]]:
+        return list(zip(*(cols[k] for k in KEYS)))
+
+    shared = set(keys(before)) & set(keys(after))
+    if not shared:
+        raise ValueError("the runs share no person-frame (scene, time and person)")
+    out = []
+    for cols in (before, after):
+        keep = np.array([k in shared for k in keys(cols)])
+        out.append({name: values[keep] for name, values in cols.items()})
+    return out[0], out[1]
+
+
+def within(cols: Columns, scenes: np.ndarray) -> Columns:
+    """The records of ``cols`` of the given scenes: with :func:`common`, a scene whose people
+    were in view only while a replay's camera stalled has no person-frame left to compare, and
+    its forecasts go with it."""
+    keep = np.isin(cols["scene"], scenes)
+    return {name: values[keep] for name, values in cols.items()}
+
+
 def pool(runs: list[Columns]) -> Columns:
     """The records of runs on different scenes (draws of other seeds) as one: the columns all
     of them hold, end to end. Refuses runs that share a scene (it would count twice)."""

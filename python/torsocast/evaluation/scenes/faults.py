@@ -16,9 +16,10 @@ that far either side of when it was taken (uniform), less than half a frame's in
 stamps still increase. Records are kept at the time the frame was taken, and a forecast is
 scored at the time it aims at on the stamp's clock, as a robot would use it.
 
-Each scene draws its own faults from its name, so every run of a split, with any code, drops
-the same frames: two replays with the same faults compare frame for frame (``eval compare``).
-A live run takes no faults: they apply to recorded detections, as the oracles do.
+Each scene draws its own faults from its name, so every run of a split, with any code, drops the
+same frames: two replays with the same faults compare frame for frame (``eval compare``), and
+one against a replay without them on the frames both hold (``eval compare --common``). A live
+run takes no faults: they apply to recorded detections, as the oracles do.
 """
 
 from __future__ import annotations
