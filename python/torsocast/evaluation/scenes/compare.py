@@ -9,7 +9,9 @@ the change of each motion category's and view bin's median forecast error per co
 horizon, with its interval over the same draws, and where both recorded their forecast
 intervals, how many motion category cells each run's intervals hold calibrated. Pairs of runs on
 other scenes (another ``--seed``) can be pooled with the first (``--also BEFORE AFTER``): the
-draws then take scenes from all of them.
+draws then take scenes from all of them. A replay with sensor faults scores fewer frames than
+one without; ``--common`` compares each pair on the person-frames both runs hold
+(:func:`common`).
 """
 
 from __future__ import annotations
