@@ -67,24 +67,23 @@ def common(before: Columns, after: Columns) -> tuple[Columns, Columns]:
     with sensor faults (``--drop``, ``--stall``) scores only the frames it gave the tracker, and
     against a replay without them it compares on those. Refuses runs that share none."""
 
-    def keys(cols: Columns) -> list[tuple[str, ...]]:
-        return list(zip(*(cols[k] for k in KEYS)))
-
-    shared = set(keys(before)) & set(keys(after))
+    keys = [list(zip(*(cols[k] for k in KEYS))) for cols in (before, after)]
+    shared = set(keys[0]) & set(keys[1])
     if not shared:
         raise ValueError("the runs share no person-frame (scene, time and person)")
-    out = []
-    for cols in (before, after):
-        keep = np.array([k in shared for k in keys(cols)])
-        out.append({name: values[keep] for name, values in cols.items()})
-    return out[0], out[1]
+    kept = [_rows(cols, np.array([k in shared for k in mine])) for cols, mine in zip((before, after), keys)]
+    return kept[0], kept[1]
 
 
 def within(cols: Columns, scenes: np.ndarray) -> Columns:
     """The records of ``cols`` of the given scenes: with :func:`common`, a scene whose people
     were in view only while a replay's camera stalled has no person-frame left to compare, and
     its forecasts go with it."""
-    keep = np.isin(cols["scene"], scenes)
+    return _rows(cols, np.isin(cols["scene"], scenes))
+
+
+def _rows(cols: Columns, keep: np.ndarray) -> Columns:
+    """The rows of ``cols`` that ``keep`` marks, every column alike."""
     return {name: values[keep] for name, values in cols.items()}
 
 

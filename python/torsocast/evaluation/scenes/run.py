@@ -86,6 +86,11 @@ def _cache_file(cache: Path, spec: SceneSpec, model: KeypointModel) -> Path:
     return cache / f"{spec.name}-{key}.npz"
 
 
+def _replay_options(oracle: Oracle, faults: Faults) -> str:
+    """The command-line options of what a replay was asked to do, as a user typed them."""
+    return " and ".join(o for o in (oracle.options, faults.options) if o)
+
+
 def _live(scene: RenderedScene, pipeline: Pipeline, record: dict[str, list] | None):  # type: ignore[no-untyped-def, type-arg]
     """Renders every frame and runs the whole pipeline; ``record`` keeps what a replay needs.
     Yields each frame's time, the frame, the pipeline's result, the detections' owners and who
@@ -159,8 +164,10 @@ def run_scene(
     record: dict[str, list] | None = defaultdict(list) if path is not None else None  # type: ignore[type-arg]
     replaying = path is not None and path.is_file()
     if (oracle or faults) and not replaying:
-        options = " and ".join(o for o in (oracle.options, faults.options) if o)
-        raise ValueError(f"{options} replays recorded detections, and {spec.name} has none in the cache")
+        raise ValueError(
+            f"{_replay_options(oracle, faults)} replays recorded detections, and {spec.name} has none "
+            "in the cache"
+        )
     frames = (
         _replay(scene, pipeline, path, oracle, faults)  # type: ignore[arg-type]
         if replaying
@@ -228,10 +235,9 @@ def evaluate(
             if cache is None or not _cache_file(cache, s, models.for_scene(s)).is_file()  # type: ignore[arg-type]
         ]
         if missing:
-            options = " and ".join(o for o in (oracle.options, faults.options) if o)
             raise ValueError(
-                f"{options} replays recorded detections: {len(missing)} of the {len(specs)} "
-                "scenes have none (run eval scenes with the same --cache first)"
+                f"{_replay_options(oracle, faults)} replays recorded detections: {len(missing)} of the "
+                f"{len(specs)} scenes have none (run eval scenes with the same --cache first)"
             )
     bench.notes.extend(oracle.notes())
     for spec in specs:
