@@ -28,6 +28,10 @@ from torsocast.evaluation.scenes.plan import (
     HIDE_AT_S,
     HIDER_SHARE,
     PAUSING_MOTIONS,
+    ROBOT_ACROSS_DEG,
+    ROBOT_PAN_DEG,
+    ROBOT_PAN_PERIOD_S,
+    ROBOT_SPEED,
     STOP_RAMP_S,
     STOP_S,
     TURN_ANGLE_DEG,
@@ -36,6 +40,7 @@ from torsocast.evaluation.scenes.plan import (
     Catalogue,
     Size,
     draw_scene,
+    on_robot,
 )
 from torsocast.evaluation.scenes.score import (
     TrackSide,
@@ -69,6 +74,7 @@ from torsocast.synthetic.scenes import (
     WALKING_AND_STOPPING,
     Actor,
     RenderedScene,
+    RobotPath,
     SceneSpec,
     torso_truth,
 )
@@ -343,6 +349,60 @@ def test_hiding_scenes_turn_their_person_round_while_a_walker_stands_in_front():
         draw_scene(catalogue, 2, 7, size, people=3, hiding=True)
     two = draw_scene(catalogue, 2, 7, size, people=2, hiding=True)
     assert two == draw_scene(catalogue, 2, 7, size, hiding=True)
+
+
+def test_a_robot_drives_past_at_its_drawn_pace_and_pans_about_the_static_cameras_place(tmp_path):
+    from torsocast.evaluation.scenes.run import _cache_file
+
+    spec = SceneSpec("dev-0-007", "d435", 15.0, 1.1, -8.0, 6.0, (), seed=12345)
+    moving = on_robot(spec)
+    assert moving == on_robot(spec) and moving.robot is not None and spec.robot is None
+    # Everything but the camera is the scene's own (the repr, which keys the recordings of the
+    # scenes drawn before robots, is too); a moving camera's recordings are keyed apart.
+    assert repr(moving) == repr(spec)
+    model: Any = type("Model", (), {"input_size": 192})()
+    assert _cache_file(tmp_path, moving, model) != _cache_file(tmp_path, spec, model)
+    path = moving.robot
+    speed = math.hypot(*path.velocity)
+    assert ROBOT_SPEED[0] <= speed <= ROBOT_SPEED[1]
+    across = abs(math.degrees(math.atan2(abs(path.velocity[0]), abs(path.velocity[1]))))
+    assert across <= ROBOT_ACROSS_DEG + 1e-9  # within the bound of across the line of sight
+    assert math.radians(ROBOT_PAN_DEG[0]) <= path.pan <= math.radians(ROBOT_PAN_DEG[1])
+    assert ROBOT_PAN_PERIOD_S[0] <= path.pan_period <= ROBOT_PAN_PERIOD_S[1]
+    # The camera at the scene's middle is the one that stands still; everywhere else it has
+    # moved at the path's velocity, at the same height, looking as far round as the pan says.
+    still = np.asarray(spec.camera().camera_to_world)
+    assert np.allclose(spec.camera(2.0).camera_to_world, still)
+    for t in (0.0, 1.7, 3.0, 6.0):
+        pose = np.asarray(moving.camera(t).camera_to_world)
+        assert pose[:2, 3] == pytest.approx(np.asarray(path.velocity) * (t - 3.0), abs=1e-12)
+        assert pose[2, 3] == pytest.approx(1.1)
+        pan = path.pan * math.sin(2 * math.pi * t / path.pan_period + path.pan_phase)
+        forward = pose[:3, 2]  # the optical axis in the world
+        assert math.atan2(forward[1], forward[0]) == pytest.approx(pan, abs=1e-9)
+        assert forward[2] == pytest.approx(still[2, 2], abs=1e-12)  # the tilt kept
+    with pytest.raises(ValueError, match="positive pan period"):
+        RobotPath((0.3, 0.0), 0.1, 0.0)
+
+
+def test_a_person_standing_still_stays_put_in_the_world_while_the_robot_drives_past(standing):
+    # Told where the camera is at every frame, the pipeline keeps a still person still in the
+    # world frame while the camera drives over a metre across and pans: the centre within a few
+    # centimetres, as from a camera that stands still. Told the camera stood still instead, the
+    # same frames put the person where the robot's motion carries them.
+    path = RobotPath((0.0, 0.6), np.radians(15.0), 2.0)
+    spec = facing(standing, np.pi, (2.5, 0.0), duration=1.9, robot=path)
+    errors = recover(spec, standing, open_model())
+    assert np.abs(errors[:, :2]).max() < 0.06 and np.abs(errors[:, 2]).max() < 0.10
+    assert np.median(errors[:, 3]) < 5 and errors[:, 3].max() < 25
+    scene = RenderedScene(spec, {standing.name: standing})
+    pipeline = Pipeline(open_model())
+    wrong = []
+    for frame in scene:
+        frame.camera = scene.camera
+        pose = pose_of(pipeline(frame).people[0].observation)
+        wrong.append(np.hypot(*(pose[:2] - frame.extra["truth"][0, :2])))
+    assert max(wrong) > 0.4
 
 
 def test_labels_show_whose_pixel_it_is_and_a_person_behind_another_is_hidden(standing):
@@ -1049,6 +1109,26 @@ def test_the_runtime_imports_neither_the_renderer_nor_the_evaluations():
         "assert not bad, bad\n"
     )
     subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def test_eval_scenes_from_a_robot_records_apart_and_replays_as_it_ran_live(tmp_path, capsys):
+    data = ["--cmu", str(shared_path("data", "cmu")), "--h36m", str(shared_path("data", "h36m"))]
+    data += ["--yolo", str(shared_path("models", "yolo11n-pose.onnx")), "--cache", str(tmp_path / "cache")]
+    quick = ["eval", "scenes", "--quick", "--split", "report", "--seed", "3", "--scenes", "1", "--no-figures"]
+    for run in ("live", "replayed"):
+        assert main([*quick, "--robot", *data, "--out", str(tmp_path / run)]) == 0
+    assert len(list((tmp_path / "cache").glob("*.npz"))) == 1  # the scene's recording
+    scenes = json.loads((tmp_path / "live" / "scenes.json").read_text())
+    assert all(len(scene["robot"]["velocity"]) == 2 for scene in scenes)
+    assert "seen from a robot driving past" in (tmp_path / "live" / "report.md").read_text()
+    # Replayed with each frame's camera where the robot was then, the records are the live ones.
+    for table in ("recovery", "forecasts", "identity"):
+        live, replayed = ((tmp_path / run / f"{table}.csv").read_text() for run in ("live", "replayed"))
+        assert live == replayed, table
+    # The same scenes seen from the camera that stands still are recorded beside them.
+    assert main([*quick, *data, "--out", str(tmp_path / "still")]) == 0
+    assert len(list((tmp_path / "cache").glob("*.npz"))) == 2
+    capsys.readouterr()
 
 
 def test_eval_scenes_quick_runs_and_its_numbers_come_back_for_the_seed(tmp_path, capsys):

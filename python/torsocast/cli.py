@@ -178,6 +178,7 @@ def _eval_scenes(args: argparse.Namespace) -> int:
             oracle=oracle,
             picture=draw,
             faults=faults,
+            robot=args.robot,
         )
     except ValueError as e:
         print(f"torsocast eval scenes: {e}", file=sys.stderr)
@@ -468,6 +469,12 @@ def main(argv: list[str] | None = None) -> int:
         metavar="SECONDS",
         help="replay the --cache with each frame stamped up to this far either side of when it was "
         "taken (under half a frame's interval)",
+    )
+    sc.add_argument(
+        "--robot",
+        action="store_true",
+        help="see every scene from a camera on a robot that drives past the people and pans, its "
+        "pose told to the pipeline (the same people as without; rendered and recorded apart)",
     )
     sc.set_defaults(run=_eval_scenes)
     cp = ev_sub.add_parser(

@@ -1,8 +1,9 @@
 """Scenes of several people from mocap, seen by one virtual RGB-D camera.
 
 Each person (an :class:`Actor`) is a mocap clip turned about the vertical and moved on the floor;
-the camera stands at the world origin looking along +x, at a robot's height and tilt. Frames
-come at the camera's rate and carry, besides colour and depth, which person each pixel shows
+the camera stands at the world origin looking along +x, at a robot's height and tilt, or rides on
+a robot that drives past the people and pans (a :class:`RobotPath`). Frames come at the camera's
+rate and carry, besides colour and depth, which person each pixel shows
 and every person's true torso pose: the plane through the mocap shoulders and hips, as the
 pipeline computes it from keypoints.
 """
@@ -90,6 +91,33 @@ def yaw_matrix(yaw: float) -> F64:
 
 
 @dataclass(frozen=True)
+class RobotPath:
+    """A camera on a robot that drives past the scene at a steady ``velocity`` (m/s over the
+    floor, world x and y) and pans its view to and fro by up to ``pan`` rad over ``pan_period``
+    seconds (from ``pan_phase``). It passes the static camera's place at the scene's middle, so
+    the people placed for that camera are in view for most of the scene."""
+
+    velocity: tuple[float, float]
+    pan: float = 0.0
+    pan_period: float = 1.0
+    pan_phase: float = 0.0
+
+    def __post_init__(self) -> None:
+        values = (*self.velocity, self.pan, self.pan_period, self.pan_phase)
+        if not np.isfinite(values).all() or self.pan_period <= 0:
+            raise ValueError(f"a robot path needs finite values and a positive pan period, got {self}")
+
+    def pose(self, t: float, duration: float) -> F64:
+        """The rigid motion ``(4, 4)`` that takes the static camera's pose to the robot's at scene
+        time ``t``: a yaw about the vertical through the camera, then the drive."""
+        yaw = self.pan * np.sin(2 * np.pi * t / self.pan_period + self.pan_phase)
+        out = np.eye(4)
+        out[:3, :3] = yaw_matrix(float(yaw))
+        out[:2, 3] = np.asarray(self.velocity) * (t - duration / 2)
+        return out
+
+
+@dataclass(frozen=True)
 class Actor:
     """One person of a scene: ``motion`` (a name) played from ``start`` seconds into the clip at
     the scene's time 0, turned by ``yaw`` (rad) about the clip's pelvis at ``anchor`` seconds
@@ -172,10 +200,21 @@ class SceneSpec:
     duration: float
     actors: tuple[Actor, ...]
     seed: int = 0
+    robot: RobotPath | None = field(default=None, repr=False)
+    """The robot the camera rides on; None for a camera that stands still. Not in the repr,
+    which keys the recordings of the scenes without one (a moving camera's are keyed apart)."""
 
-    def camera(self) -> Camera:
+    def camera(self, t: float = 0.0) -> Camera:
+        """The camera at scene time ``t`` (the same at every time without a :attr:`robot`)."""
         sensor = SENSORS[self.sensor]
-        return Camera(sensor.intrinsics, level_camera(self.height, -np.radians(self.tilt_deg)))
+        pose = level_camera(self.height, -np.radians(self.tilt_deg))
+        if self.robot is not None:
+            move = self.robot.pose(t, self.duration)
+            # Yawed about the camera's own vertical, then driven: the height is kept.
+            pose = pose.copy()
+            pose[:3, :3] = move[:3, :3] @ pose[:3, :3]
+            pose[:2, 3] += move[:2, 3]
+        return Camera(sensor.intrinsics, pose)
 
     @property
     def times(self) -> F64:
@@ -239,21 +278,28 @@ class RenderedScene:
         k = int(self.sample(actor, t))
         return self.placed[actor][k] if k >= 0 else None
 
+    def camera_at(self, t: float) -> Camera:
+        """The camera at scene time ``t``: :attr:`camera` for one that stands still."""
+        return self.camera if self.spec.robot is None else self.spec.camera(t)
+
     def __iter__(self) -> Iterator[Frame]:
         rng = np.random.default_rng(self.spec.seed)
-        rays = self.scene.rays(self.camera)
+        rays = self.scene.rays(self.camera)  # in the optical frame: the same wherever it goes
         background = self.scene.background(self.camera, rays)
         outfits = [a.outfit for a in self.spec.actors]
         for index, t in enumerate(self.spec.times):
+            camera = self.camera_at(float(t))
+            if self.spec.robot is not None:
+                background = self.scene.background(camera, rays)
             samples = [int(self.sample(i, t)) for i in range(len(self.clips))]
             here = [i for i, k in enumerate(samples) if k >= 0]
             people = [self.placed[i][samples[i]] for i in here]
-            frame = self.scene.render(people, self.camera, rng, rays, background, [outfits[i] for i in here])
+            frame = self.scene.render(people, camera, rng, rays, background, [outfits[i] for i in here])
             # Renderer index -> actor index; -1 (floor, sky) picks the appended -1.
             labels = np.asarray([*here, -1], dtype=np.int8)[frame.labels]
             truth = np.array([self.truth_at(i, t) for i in range(len(self.clips))]).reshape(-1, 5)
             extra = {"labels": labels, "truth": truth, "joints": people, "present": here}
-            yield Frame(index, float(t), frame.rgb, frame.depth, self.camera, extra)
+            yield Frame(index, float(t), frame.rgb, frame.depth, camera, extra)
 
     def visible(self, frame: Frame, min_joints: int = 3) -> npt.NDArray[np.bool_]:
         """Which actors show at least ``min_joints`` of their four torso joints in ``frame``: in
@@ -262,11 +308,12 @@ class RenderedScene:
         camera but not from a detector)."""
         out = np.zeros(len(self.clips), dtype=bool)
         labels = frame.extra["labels"]
+        camera = frame.camera or self.camera_at(frame.time)
         h, w = labels.shape
         for joints, i in zip(frame.extra["joints"], frame.extra["present"]):
-            optical = self.camera.to_optical(joints[list(cmu.TORSO)])
+            optical = camera.to_optical(joints[list(cmu.TORSO)])
             ahead = optical[:, 2] > 0.1
-            uv = self.camera.intrinsics.project(np.where(ahead[:, None], optical, 1.0))
+            uv = camera.intrinsics.project(np.where(ahead[:, None], optical, 1.0))
             u, v = np.rint(uv).astype(int).T
             inside = ahead & (u >= 0) & (u < w) & (v >= 0) & (v < h)
             own = np.zeros(4, dtype=bool)

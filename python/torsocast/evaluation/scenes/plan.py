@@ -12,13 +12,15 @@ stop, again and again (as people turn to look at something: a trend that ends), 
 walkers who stop and walk on (as people walk up to something, or to the robot: a walk that ends),
 then as many of a person who turns round while a walker stands between them and the camera (as
 people turn while someone passing hides them: a track that must take its person up again turned).
+Any of these scenes can be seen from a robot that drives past the people instead
+(:func:`on_robot`): the same people, the camera moving.
 """
 
 from __future__ import annotations
 
 import os
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import partial
 from pathlib import Path
 
@@ -27,7 +29,7 @@ import numpy as np
 from ...datasets import cmu, h36m
 from ...synthetic.mannequin import random_outfit
 from ...synthetic.motions import Motion, cmu_motion, h36m_category, h36m_motion
-from ...synthetic.scenes import Actor, SceneSpec
+from ...synthetic.scenes import Actor, RobotPath, SceneSpec
 from ...synthetic.sensor import SENSORS
 
 SPLITS = ("dev", "report")
@@ -86,6 +88,16 @@ HIDE_AT_S = (1.5, 2.5)
 HIDDEN_STAND_S = (0.2, 1.4)
 HIDDEN_TURN_DEG = (120.0, 180.0)
 HIDDEN_TURN_RATE_DEG = (120.0, 240.0)
+#: A robot driving past the people (:func:`on_robot`): at a speed drawn from :data:`ROBOT_SPEED`
+#: (m/s, a service robot's pace near people), in a direction within :data:`ROBOT_ACROSS_DEG` of
+#: across the static camera's line of sight (either way), panning its camera to and fro by an
+#: amplitude drawn from :data:`ROBOT_PAN_DEG` (deg) over a period drawn from
+#: :data:`ROBOT_PAN_PERIOD_S` (s). Over a 6 s scene it moves 1 to 4 m and sees every person from
+#: views that change by tens of degrees while they stand still.
+ROBOT_SPEED = (0.2, 0.6)
+ROBOT_ACROSS_DEG = 45.0
+ROBOT_PAN_DEG = (0.0, 20.0)
+ROBOT_PAN_PERIOD_S = (4.0, 8.0)
 
 
 @dataclass(frozen=True)
@@ -412,6 +424,22 @@ def _people(
                 paths.append(path)
                 break
     return actors
+
+
+def on_robot(spec: SceneSpec) -> SceneSpec:
+    """``spec`` seen from a robot that drives past its people (:data:`ROBOT_SPEED` and after),
+    drawn from the scene's own seed: the same scene always gets the same path, and the people,
+    the sensor and every other draw are those of ``spec``."""
+    rng = np.random.default_rng([spec.seed, 1])
+    speed = rng.uniform(*ROBOT_SPEED)
+    direction = np.pi / 2 * rng.choice([-1.0, 1.0]) + np.radians(rng.uniform(-1.0, 1.0) * ROBOT_ACROSS_DEG)
+    path = RobotPath(
+        (float(speed * np.cos(direction)), float(speed * np.sin(direction))),
+        float(np.radians(rng.uniform(*ROBOT_PAN_DEG))),
+        float(rng.uniform(*ROBOT_PAN_PERIOD_S)),
+        float(rng.uniform(0.0, 2 * np.pi)),
+    )
+    return replace(spec, robot=path)
 
 
 def draw_scene(

@@ -252,7 +252,7 @@ def markdown(bench: Benchmark, t: dict[str, Any], figures: list[str]) -> str:
         "Every frame went through the real pipeline and model; nothing is simulated after the rendering.",
     ]
     if bench.notes:
-        lines += ["", "Left out:", "", *[f"- {n}" for n in bench.notes]]
+        lines += ["", "Notes:", "", *[f"- {n}" for n in bench.notes]]
     lines += ["", "## Headline", "", *headline(t), "", "## Torso recovery", ""]
     lines.append(
         "Errors of the estimate against the true torso pose in every frame where at least three of "

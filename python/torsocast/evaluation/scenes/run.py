@@ -19,7 +19,7 @@ from ...sources import Frame
 from ...synthetic.scenes import RenderedScene, SceneSpec
 from .faults import NO_FAULTS, Faults
 from .oracle import NO_ORACLE, Oracle
-from .plan import FULL, QUICK, Catalogue, Size, draw_scene
+from .plan import FULL, QUICK, ROBOT_SPEED, Catalogue, Size, draw_scene, on_robot
 from .score import SceneScore, Scorer, assign
 
 HORIZONS = (0.4, 1.0, 2.0)
@@ -82,6 +82,7 @@ def _cache_file(cache: Path, spec: SceneSpec, model: KeypointModel) -> Path:
     text += f" turns {turns}" if turns else ""
     text += f" bursts {bursts}" if bursts else ""
     text += f" pauses {pauses}" if pauses else ""
+    text += f" robot {spec.robot!r}" if spec.robot is not None else ""  # not in the repr either
     key = hashlib.sha256(text.encode()).hexdigest()[:16]
     return cache / f"{spec.name}-{key}.npz"
 
@@ -134,7 +135,7 @@ def _replay(scene: RenderedScene, pipeline: Pipeline, path: Path, oracle: Oracle
             skeletons = [scene.joints_at(i, float(t)) for i in range(len(scene.clips))]
             oracle.apply(keypoints, joints, owner, truth, skeletons, again, pipeline.tracker_config)
         detections = Detections(keypoints, np.zeros((len(keypoints), 4)), np.ones(len(keypoints)))
-        frame = Frame(k, float(stamps[k]), np.zeros((1, 1, 3), np.uint8), None, scene.camera)
+        frame = Frame(k, float(stamps[k]), np.zeros((1, 1, 3), np.uint8), None, scene.camera_at(float(t)))
         frame.extra["truth"] = truth
         result = pipeline.track(frame, detections, joints, time.perf_counter())
         yield float(t), frame, result, owner, data["visible"][k]
@@ -203,10 +204,13 @@ def evaluate(
     oracle: Oracle = NO_ORACLE,
     picture: bool = True,
     faults: Faults = NO_FAULTS,
+    robot: bool = False,
 ) -> Benchmark:
     """Draws the split's scenes for ``seed`` and runs them all (``cache``, ``oracle`` and
     ``faults``: see :func:`run_scene`; an oracle or faults need every scene recorded, and say so
-    before any work, as faults a scene cannot take).
+    before any work, as faults a scene cannot take). With ``robot``, every scene is seen from a
+    robot that drives past its people (:func:`~.plan.on_robot`), recorded apart from the scenes
+    seen from a camera that stands still.
     Without ``picture``, a run whose every scene was replayed keeps no frame for the report's
     figure (it would render the most crowded scene again for it)."""
     size = size or (QUICK if quick else FULL)
@@ -218,6 +222,8 @@ def evaluate(
     specs += [draw_scene(catalogue, first + i, seed, size, pausing=True) for i in range(size.pausing)]
     first += size.pausing
     specs += [draw_scene(catalogue, first + i, seed, size, hiding=True) for i in range(size.hiding)]
+    if robot:
+        specs = [on_robot(s) for s in specs]
     bench = Benchmark(catalogue.split, seed, quick, [], notes=catalogue.notes)
     bench.models = {"one person": "MoveNet Lightning int8 (bundled)", "several people": models.multi_name}
     if models.multi is None:
@@ -240,6 +246,11 @@ def evaluate(
                 f"{len(specs)} scenes have none (run eval scenes with the same --cache first)"
             )
     bench.notes.extend(oracle.notes())
+    if robot:
+        bench.notes.append(
+            f"every scene seen from a robot driving past its people at {ROBOT_SPEED[0]} to "
+            f"{ROBOT_SPEED[1]} m/s and panning (--robot; its pose told to the pipeline exactly)"
+        )
     for spec in specs:
         faults.frames(spec)  # a fault a scene cannot take is said now, not after the run
     bar = Progress(len(specs), f"eval scenes ({catalogue.split})") if progress else None
