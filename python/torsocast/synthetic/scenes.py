@@ -3,9 +3,9 @@
 Each person (an :class:`Actor`) is a mocap clip turned about the vertical and moved on the floor;
 the camera stands at the world origin looking along +x, at a robot's height and tilt, or rides on
 a robot that drives past the people and pans (a :class:`RobotPath`). Frames come at the camera's
-rate and carry, besides colour and depth, which person each pixel shows
-and every person's true torso pose: the plane through the mocap shoulders and hips, as the
-pipeline computes it from keypoints.
+rate and carry, besides colour and depth, which person each pixel shows and every person's true
+torso pose: the plane through the mocap shoulders and hips, as the pipeline computes it from
+keypoints.
 """
 
 from __future__ import annotations
@@ -209,11 +209,9 @@ class SceneSpec:
         sensor = SENSORS[self.sensor]
         pose = level_camera(self.height, -np.radians(self.tilt_deg))
         if self.robot is not None:
-            move = self.robot.pose(t, self.duration)
-            # Yawed about the camera's own vertical, then driven: the height is kept.
-            pose = pose.copy()
-            pose[:3, :3] = move[:3, :3] @ pose[:3, :3]
-            pose[:2, 3] += move[:2, 3]
+            # The still camera stands over the origin: the path's yaw turns it about its own
+            # vertical, and the drive keeps its height.
+            pose = self.robot.pose(t, self.duration) @ pose
         return Camera(sensor.intrinsics, pose)
 
     @property
