@@ -283,12 +283,11 @@ class RenderedScene:
     def __iter__(self) -> Iterator[Frame]:
         rng = np.random.default_rng(self.spec.seed)
         rays = self.scene.rays(self.camera)  # in the optical frame: the same wherever it goes
-        background = self.scene.background(self.camera, rays)
+        # The floor a still camera sees is rendered once; a moving one's with every frame.
+        background = self.scene.background(self.camera, rays) if self.spec.robot is None else None
         outfits = [a.outfit for a in self.spec.actors]
         for index, t in enumerate(self.spec.times):
             camera = self.camera_at(float(t))
-            if self.spec.robot is not None:
-                background = self.scene.background(camera, rays)
             samples = [int(self.sample(i, t)) for i in range(len(self.clips))]
             here = [i for i, k in enumerate(samples) if k >= 0]
             people = [self.placed[i][samples[i]] for i in here]
@@ -306,7 +305,8 @@ class RenderedScene:
         camera but not from a detector)."""
         out = np.zeros(len(self.clips), dtype=bool)
         labels = frame.extra["labels"]
-        camera = frame.camera or self.camera_at(frame.time)
+        camera = frame.camera
+        assert camera is not None, "a rendered frame carries the camera it was seen from"
         h, w = labels.shape
         for joints, i in zip(frame.extra["joints"], frame.extra["present"]):
             optical = camera.to_optical(joints[list(cmu.TORSO)])
