@@ -383,6 +383,8 @@ def test_a_robot_drives_past_at_its_drawn_pace_and_pans_about_the_static_cameras
         assert forward[2] == pytest.approx(still[2, 2], abs=1e-12)  # the tilt kept
     with pytest.raises(ValueError, match="positive pan period"):
         RobotPath((0.3, 0.0), 0.1, 0.0)
+    with pytest.raises(ValueError, match="finite values"):
+        RobotPath((math.nan, 0.0))
 
 
 def test_a_person_standing_still_stays_put_in_the_world_while_the_robot_drives_past(standing):
