@@ -741,6 +741,9 @@ def test_the_label_oracle_refuses_scenes_it_cannot_replay(tmp_path, capsys):
     assert main([*args[:-1], "--drop", "1.5"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--drop: expected a share of the frames" in err
+    assert main([*args[:-1], "--pose-noise", "-1"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--pose-noise: expected a finite, non-negative angle" in err
 
 
 #: The columns of the records the comparison tests write: labels, then forecast errors.
@@ -1082,6 +1085,87 @@ def test_a_replay_with_sensor_faults_gives_the_tracker_only_the_frames_they_leav
         run_scene(spec, catalogue, model, cache=tmp_path / "empty", faults=faults)
 
 
+def test_a_pose_told_late_is_the_robots_earlier_one_and_a_wavering_one_turns_about_the_camera():
+    path = RobotPath((0.1, 0.4), np.radians(15.0), 5.0, 0.3)
+    robot = SceneSpec("dev-0-001", "d435", 30.0, 1.2, -10.0, 200.0, (), robot=path)
+    assert Faults().cameras(robot) is None and Faults(drop=0.2).cameras(robot) is None
+    late = Faults(pose_lag=0.1).cameras(robot)
+    assert late is not None
+    for k in (0, 7, 3000):
+        t = float(robot.times[k])
+        assert np.array_equal(late[k].camera_to_world, robot.camera(t - 0.1).camera_to_world)
+    # A wavering heading: the position and tilt exact, the heading off by a normal error of the
+    # standard deviation asked, drawn afresh for every frame and the same on every run.
+    told = Faults(pose_noise=1.0).cameras(robot)
+    assert told is not None and len(told) == len(robot.times)
+    errors = []
+    for t, camera in zip(robot.times, told):
+        pose, true = np.asarray(camera.camera_to_world), np.asarray(robot.camera(float(t)).camera_to_world)
+        assert np.array_equal(pose[:3, 3], true[:3, 3])
+        assert pose[2, 2] == pytest.approx(true[2, 2], abs=1e-12)  # the optical axis's tilt
+        errors.append(math.atan2(pose[1, 2], pose[0, 2]) - math.atan2(true[1, 2], true[0, 2]))
+    errors = np.degrees(wrap_angle(np.asarray(errors)))
+    assert abs(np.std(errors) - 1.0) < 0.05 and abs(np.mean(errors)) < 0.05
+    assert abs(np.corrcoef(errors[1:], errors[:-1])[0, 1]) < 0.05
+    again = Faults(pose_noise=1.0).cameras(robot)
+    assert again is not None and np.array_equal(again[5].camera_to_world, told[5].camera_to_world)
+    # The frames dropped and their stamps are drawn apart: asking for a pose fault changes neither.
+    posed = Faults(0.2, 0.0, 0.01, 0.1, 1.0)
+    for a, b in zip(Faults(drop=0.2, jitter=0.01).frames(robot), posed.frames(robot)):
+        assert np.array_equal(a, b)
+    assert Faults(pose_lag=0.1, pose_noise=2).options == "--pose-lag 0.1 --pose-noise 2"
+    # A camera that stands still wavers too, but has no earlier pose to be told.
+    still = SceneSpec("dev-0-001", "d435", 30.0, 1.2, -10.0, 6.0, ())
+    assert Faults(pose_noise=1.0).cameras(still) is not None
+    with pytest.raises(ValueError, match="dev-0-001 is seen from a camera that stands still"):
+        Faults(pose_lag=0.1).cameras(still)
+    for option, bad in (("pose_lag", -0.1), ("pose_noise", math.inf)):
+        with pytest.raises(ValueError, match=f"^--{option.replace('_', '-')}: expected a finite"):
+            Faults(**{option: bad})
+
+
+def test_a_replay_told_a_wavering_pose_sees_the_same_but_places_it_as_that_pose_says(tmp_path, monkeypatch):
+    from torsocast.evaluation.scenes.run import run_scene
+
+    spec, catalogue, model, live, _ = recorded_walk(tmp_path)
+    given: list[tuple[Any, Any]] = []
+    track = Pipeline.track
+
+    def keep(self, frame, detections, joints, clock):
+        given.append((frame.camera, joints))
+        return track(self, frame, detections, joints, clock)
+
+    monkeypatch.setattr(Pipeline, "track", keep)
+    replayed, _, _ = run_scene(spec, catalogue, model, cache=tmp_path, faults=Faults(pose_noise=3.0))
+    told = Faults(pose_noise=3.0).cameras(spec)
+    assert told is not None and len(given) == len(spec.times)
+    true = spec.camera()
+    with np.load(next(tmp_path.glob("*.npz"))) as recording:
+        people, recorded = recording["people"], recording["joints"]
+    assert people.max() == 1 and people.sum() > 20  # at most one detection a frame
+    frames = np.cumsum(people) - 1
+    for k, (camera, joints) in enumerate(given):
+        assert np.array_equal(camera.camera_to_world, told[k].camera_to_world)
+        if not people[k]:
+            continue
+        seen = np.isfinite(recorded[frames[k]]).all(axis=1)
+        # What the camera saw is the same, placed by the pose told: the joints keep their height
+        # and their distance from the camera and turn about it, by the pose's error.
+        moved, kept = joints[0, seen], recorded[frames[k], seen]
+        assert np.allclose(camera.to_optical(moved), true.to_optical(kept), atol=1e-9)
+        assert np.allclose(moved[:, 2], kept[:, 2], atol=1e-9)
+        centre = np.asarray(true.camera_to_world)[:2, 3]
+        assert np.allclose(np.hypot(*(moved[:, :2] - centre).T), np.hypot(*(kept[:, :2] - centre).T))
+    # Scored from where the camera truly was: the views and distances are the live run's, the
+    # estimates not.
+    for column in ("view", "distance", "t"):
+        assert replayed.recovery[column] == live.recovery[column], column
+    assert replayed.recovery["y"] != live.recovery["y"]
+    # A pose told late needs a camera that moves.
+    with pytest.raises(ValueError, match="stands still"):
+        run_scene(spec, catalogue, model, cache=tmp_path, faults=Faults(pose_lag=0.1))
+
+
 def test_a_replay_without_figures_writes_the_live_runs_records_and_renders_nothing(tmp_path, monkeypatch):
     # One quick scene recorded live with its figures, then replayed with --no-figures: the same
     # records, no figure, and no frame rendered for the picture the figures would have drawn.
@@ -1127,6 +1211,14 @@ def test_eval_scenes_from_a_robot_records_apart_and_replays_as_it_ran_live(tmp_p
     for table in ("recovery", "forecasts", "identity"):
         live, replayed = ((tmp_path / run / f"{table}.csv").read_text() for run in ("live", "replayed"))
         assert live == replayed, table
+    # Told the robot's pose from 0.2 s before each frame, the replay places people where they
+    # were not; it is scored from where the camera truly was (the views and distances live).
+    assert main([*quick, "--robot", *data, "--pose-lag", "0.2", "--out", str(tmp_path / "late")]) == 0
+    live, late = (list(csv.DictReader((tmp_path / run / "recovery.csv").open())) for run in ("live", "late"))
+    for column in ("t", "actor", "view", "distance"):
+        assert [r[column] for r in late] == [r[column] for r in live], column
+    assert [r["x"] for r in late] != [r["x"] for r in live]
+    assert "--pose-lag 0.2" in (tmp_path / "late" / "report.md").read_text()
     # The same scenes seen from the camera that stands still are recorded beside them.
     assert main([*quick, *data, "--out", str(tmp_path / "still")]) == 0
     assert len(list((tmp_path / "cache").glob("*.npz"))) == 2

@@ -159,7 +159,7 @@ def _eval_scenes(args: argparse.Namespace) -> int:
         return 2
     try:
         oracle = Oracle.parse(args.oracle_labels, args.oracle_joints, args.oracle_pixels)
-        faults = Faults(args.drop, args.stall, args.jitter)
+        faults = Faults(args.drop, args.stall, args.jitter, args.pose_lag, args.pose_noise)
         catalogue = Catalogue.find(args.split, cmu_root, h36m_root)
         models = Models.open(yolo)
     except (FileNotFoundError, ValueError, RuntimeError) as e:
@@ -469,6 +469,22 @@ def main(argv: list[str] | None = None) -> int:
         metavar="SECONDS",
         help="replay the --cache with each frame stamped up to this far either side of when it was "
         "taken (under half a frame's interval)",
+    )
+    sc.add_argument(
+        "--pose-lag",
+        type=float,
+        default=0.0,
+        metavar="SECONDS",
+        help="replay the --cache (of --robot scenes) with the camera's pose told from this long "
+        "before each frame was taken (a localisation that lags the image)",
+    )
+    sc.add_argument(
+        "--pose-noise",
+        type=float,
+        default=0.0,
+        metavar="DEGREES",
+        help="replay the --cache with the camera's pose told turned about its vertical by an error "
+        "of this standard deviation, drawn for every frame (a localiser's heading that wavers)",
     )
     sc.add_argument(
         "--robot",

@@ -122,6 +122,7 @@ def _replay(scene: RenderedScene, pipeline: Pipeline, path: Path, oracle: Oracle
     # The pixels' oracle lifts from the depth images: the frames are rendered again.
     rendered = iter(scene) if oracle.pixels else None
     given, stamps = faults.frames(scene.spec)
+    told = faults.cameras(scene.spec)
     for k, t in enumerate(scene.spec.times):
         again = next(rendered) if rendered is not None else None
         if not given[k]:
@@ -134,9 +135,15 @@ def _replay(scene: RenderedScene, pipeline: Pipeline, path: Path, oracle: Oracle
             keypoints, joints = keypoints.copy(), joints.copy()  # put right in place
             skeletons = [scene.joints_at(i, float(t)) for i in range(len(scene.clips))]
             oracle.apply(keypoints, joints, owner, truth, skeletons, again, pipeline.tracker_config)
+        camera = pose = scene.camera_at(float(t))
+        if told is not None:
+            # Lifted with the true pose: into the world as the pose told would have put them.
+            pose = told[k]
+            joints = pose.to_world(camera.to_optical(joints))
         detections = Detections(keypoints, np.zeros((len(keypoints), 4)), np.ones(len(keypoints)))
-        frame = Frame(k, float(stamps[k]), np.zeros((1, 1, 3), np.uint8), None, scene.camera_at(float(t)))
+        frame = Frame(k, float(stamps[k]), np.zeros((1, 1, 3), np.uint8), None, pose)
         frame.extra["truth"] = truth
+        frame.extra["camera"] = camera
         result = pipeline.track(frame, detections, joints, time.perf_counter())
         yield float(t), frame, result, owner, data["visible"][k]
 
@@ -253,6 +260,7 @@ def evaluate(
         )
     for spec in specs:
         faults.frames(spec)  # a fault a scene cannot take is said now, not after the run
+        faults.cameras(spec)
     bar = Progress(len(specs), f"eval scenes ({catalogue.split})") if progress else None
     best_count = 0
     for spec in specs:

@@ -189,9 +189,11 @@ class Scorer:
         """Scores one frame's ``result``, taken at ``t``: ``owner`` is the person index of each
         detection (-1 for none, :func:`assign`), ``visible`` which people count, ``truth`` their
         poses; ``stamp``, the time the tracker was told (``t`` where None)."""
-        # Views and distances from where the frame was seen (a robot's camera moves).
-        assert result.frame.camera is not None  # a scene's frames carry their camera
-        self.camera_xy = np.asarray(result.frame.camera.camera_to_world)[:2, 3]
+        # Views and distances from where the frame was seen (a robot's camera moves); a replay
+        # that tells the pipeline another pose keeps the true one in the frame's extra.
+        camera = result.frame.extra.get("camera", result.frame.camera)
+        assert camera is not None  # a scene's frames carry their camera
+        self.camera_xy = np.asarray(camera.camera_to_world)[:2, 3]
         by_actor = {a: d for d, a in enumerate(owner) if a >= 0}
         self.score.false_positives += sum(1 for a in owner if a < 0)
         for tracked in result.people:  # the velocity reference sees what the tracks see
