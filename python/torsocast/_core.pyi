@@ -374,9 +374,11 @@ class TrackerConfig:
     @property
     def gate(self) -> float:
         """Largest distance (m) between where a track's person is expected (the last torso
-        centre, moved on at the track's walking velocity while unseen) and its detection's;
-        widened by 1 m per second the camera sent no frame (beyond 0.2 s between two frames)
-        since the track was last matched."""
+        centre, moved on at the track's walking velocity while unseen) and its detection's, or
+        three times the track's recent distances between the two (root mean square, forgotten
+        over a second) where that is wider, up to twice this; widened by 1 m per second the
+        camera sent no frame (beyond 0.2 s between two frames) since the track was last
+        matched."""
     @property
     def min_hits(self) -> int:
         """Matched frames before a track is confirmed and given an id."""

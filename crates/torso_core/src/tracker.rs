@@ -8,14 +8,17 @@
 //! the distance between where track `i`'s person is expected (the last torso centre, moved on
 //! at the track's walking velocity for the time unseen where its history is a steady walk) and
 //! the detection's torso centre; the optimal assignment ([`Assignment`]) is taken, and pairs
-//! further apart than `gate` are refused, the gate widened at [`BLIND_PACE`] for the time the
-//! camera sent no frame since the track was last matched. An unmatched detection opens a
-//! tentative track, which is confirmed (and given the next id) after `min_hits` matched frames,
-//! unless it lies within [`MIN_SEPARATION`] of a detection a track took: the same body seen
-//! twice. A confirmed track unmatched for `max_missing` seconds is dropped, a tentative one at
-//! its first miss, and any track unmatched in a frame where its person is expected within
-//! [`MIN_SEPARATION`] of a track's matched in it: the same body tracked twice (the two would
-//! take its detection in turns, and its reported id change every frame).
+//! further apart than `gate` are refused, or than [`GATE_SPREADS`] times the track's recent
+//! association distance where that is wider (a measured centre that scatters; at most
+//! [`MAX_SPREAD_GATE`] times `gate`), the gate widened at [`BLIND_PACE`] for the time the
+//! camera sent no frame since the track was last matched.
+//! An unmatched detection opens a tentative track, which is confirmed (and given the next id)
+//! after `min_hits` matched frames, unless it lies within [`MIN_SEPARATION`] of a detection a
+//! track took: the same body seen twice. A confirmed track unmatched for `max_missing` seconds
+//! is dropped, a tentative one at its first miss, and any track unmatched in a frame where its
+//! person is expected within [`MIN_SEPARATION`] of a track's matched in it: the same body
+//! tracked twice (the two would take its detection in turns, and its reported id change every
+//! frame).
 //!
 //! At most `capacity` tracks live at once and a frame holds at most `max_detections`
 //! detections; every buffer grows to those bounds at most, and a dropped track's [`Person`] is
@@ -83,6 +86,29 @@ pub const MIN_SEPARATION: f64 = 0.25;
 /// 2 m/s, where the two slowest lost about as few people and passed fewest ids on.
 pub const BLIND_PACE: f64 = 1.0;
 
+/// How many times a track's recent association distance (root mean square, between where its
+/// person was expected and the detection it took) its gate reaches, where that is wider than
+/// `gate`: a person whose measured centre scatters from frame to frame (told the camera's pose
+/// with a heading that wavers, which moves everyone by their distance times the error) is
+/// looked for within three of the track's own recent distances, and a still, well-measured one
+/// within `gate`. Three spreads hold nearly every step of a normal scatter. Dev (a wavering
+/// heading, `eval scenes --pose-noise 2`): two left most of the identity switches the scatter
+/// made, four passed more ids on to someone else (docs/benchmark_log.md).
+pub const GATE_SPREADS: f64 = 3.0;
+
+/// The most, in multiples of `gate`, that a track's association distances widen its gate
+/// ([`GATE_SPREADS`]). The distances a gate lets in make the spread that sets it, so a track
+/// that takes someone else's detection now and then (two people in a line of sight, their
+/// joints lifted onto each other) would otherwise widen its gate with each one, and take more.
+/// A heading that wavers by two degrees scatters a person 8 m away about as far. Dev: the same
+/// tracking as with no bound.
+pub const MAX_SPREAD_GATE: f64 = 2.0;
+
+/// Time constant (s) over which a track forgets its association distances ([`GATE_SPREADS`]):
+/// a second, as a heading's recent evidence is forgotten (`FacingConfig::memory`), so that the
+/// gate follows a scatter that comes and goes.
+const GATE_MEMORY: f64 = 1.0;
+
 /// The cost of a pair beyond its gate: more than any set of allowed pairs costs, whose
 /// distances within a depth camera's range are metres.
 const REFUSED: f64 = 1e6;
@@ -109,8 +135,10 @@ pub const MAX_MISSING: f64 = HORIZONS[HORIZONS.len() - 1];
 pub struct TrackerConfig {
     /// Largest distance (m) between where a track's person is expected and the torso centre of
     /// the detection it takes: a walking person covers 0.6 m in 0.4 s (and a steady walk is
-    /// followed on while its walker is unseen). Widened at [`BLIND_PACE`] for the time the
-    /// camera sent no frame since the track was last matched.
+    /// followed on while its walker is unseen). A track whose recent association distances
+    /// scatter wider looks [`GATE_SPREADS`] of them far instead (up to [`MAX_SPREAD_GATE`] times
+    /// this), and every track's gate is widened at [`BLIND_PACE`] for the time the camera sent
+    /// no frame since it was last matched.
     pub gate: f64,
     /// Matched frames before a track is confirmed and given an id.
     pub min_hits: u32,
@@ -229,11 +257,29 @@ struct Slot {
     last_seen: f64,
     /// Seconds the camera sent no frame since the track was last matched ([`BLIND_PACE`]).
     blind: f64,
+    /// Mean square (m^2) of the track's recent association distances ([`GATE_SPREADS`]),
+    /// weighed by `spread_weight`: the two are forgotten alike, so that their ratio is the mean
+    /// of what the track has seen however young it is.
+    spread: f64,
+    spread_weight: f64,
     id: Option<u64>,
     serial: u64,
 }
 
 impl Slot {
+    /// The track's association gate (m) for the configured `gate`: [`GATE_SPREADS`] of its
+    /// recent association distances (root mean square) where that is wider, up to
+    /// [`MAX_SPREAD_GATE`] times `gate`; widened at [`BLIND_PACE`] for the time the camera sent
+    /// no frame since the track was last matched.
+    fn gate(&self, gate: f64) -> f64 {
+        let spread = if self.spread_weight > 0.0 {
+            (self.spread / self.spread_weight).sqrt()
+        } else {
+            0.0
+        };
+        gate.max((GATE_SPREADS * spread).min(MAX_SPREAD_GATE * gate)) + BLIND_PACE * self.blind
+    }
+
     /// Where the track's person is expected at `t`: the last centre, moved on at its walk's
     /// velocity over the time unseen where its history is a steady walk
     /// ([`Person::walking_velocity`]). A walker hidden for a few frames walks on out of a gate
@@ -507,7 +553,7 @@ impl Tracker {
         for &i in &self.active {
             self.slots[i].blind += blind;
         }
-        self.last_t = Some(t);
+        let previous = self.last_t.replace(t);
         self.joints.clear();
         self.joints.extend_from_slice(&self.lifted);
         self.place_detections(camera_position);
@@ -539,6 +585,14 @@ impl Tracker {
                 },
             };
             let s = &mut self.slots[slot];
+            // The scatter of a person's measured centre from one frame to the next; a track
+            // found again after frames without it has the person's unseen motion in its step.
+            if s.hits > 0 && Some(s.last_seen) == previous {
+                let step = distance(s.expected_centre(t), self.centres[d]);
+                let weight = 1.0 - (-(t - s.last_seen) / GATE_MEMORY).exp();
+                s.spread += weight * (step * step - s.spread);
+                s.spread_weight += weight * (1.0 - s.spread_weight);
+            }
             let observation =
                 s.person
                     .update(t, &self.joints[d], &self.scores[d], camera_position)?;
@@ -646,7 +700,7 @@ impl Tracker {
         self.cost.clear();
         for &i in &self.active {
             let a = self.slots[i].expected_centre(t);
-            let gate = self.config.gate + BLIND_PACE * self.slots[i].blind;
+            let gate = self.slots[i].gate(self.config.gate);
             for &d in &self.placeable {
                 let b = self.centres[d];
                 let distance = distance(a, b);
@@ -684,6 +738,8 @@ impl Tracker {
                     hits: 0,
                     last_seen: f64::NAN,
                     blind: 0.0,
+                    spread: 0.0,
+                    spread_weight: 0.0,
                     id: None,
                     serial: 0,
                 });
@@ -694,6 +750,8 @@ impl Tracker {
         let s = &mut self.slots[slot];
         s.hits = 0;
         s.blind = 0.0;
+        s.spread = 0.0;
+        s.spread_weight = 0.0;
         s.id = None;
         s.serial = self.next_serial;
         self.next_serial += 1;
@@ -1026,6 +1084,44 @@ mod tests {
         // Frames that came without the person (hidden, out of the detector's sight) widen
         // nothing: the same move is someone else's.
         assert_eq!(id_after(1.0, true), None);
+    }
+
+    #[test]
+    fn a_person_whose_measured_centre_scatters_is_found_within_three_of_its_own_spreads() {
+        // A person standing 6 m away, seen at 30 frames per second, whose measured centre jumps
+        // sideways from frame to frame (a robot's heading that wavers by a few degrees): 0.4 m
+        // for a second, then 0.7 m for two and 1 m for one, beyond the gate (0.6 m) but within
+        // three of the track's own recent jumps. A jump of 1.4 m is beyond twice the gate, the
+        // most a scatter widens it to. Then they are measured still for three seconds, and a
+        // detection 0.9 m away is someone else's again.
+        let mut tracker = Tracker::new(TrackerConfig::default()).unwrap();
+        let mut ids = Vec::new();
+        let mut y = 0.0;
+        for k in 0..120 {
+            let t = k as f64 / 30.0;
+            let half = [0.2, 0.35, 0.35, 0.5][k / 30];
+            y = if k % 2 == 0 { half } else { -half };
+            let out = tracker
+                .update(t, &[body(6.0, y)], &[SEEN], [0.0; 3])
+                .unwrap();
+            ids.push(out[0].track.unwrap().id);
+        }
+        assert!(ids[2..].iter().all(|&id| id == Some(1)), "{ids:?}");
+        let out = tracker
+            .update(4.0, &[body(6.0, y + 1.4)], &[SEEN], [0.0; 3])
+            .unwrap();
+        assert_eq!(out[0].track.unwrap().id, None);
+        for k in 121..210 {
+            let t = k as f64 / 30.0;
+            let out = tracker
+                .update(t, &[body(6.0, 0.0)], &[SEEN], [0.0; 3])
+                .unwrap();
+            assert_eq!(out[0].track.unwrap().id, Some(1));
+        }
+        let out = tracker
+            .update(7.0, &[body(6.0, 0.9)], &[SEEN], [0.0; 3])
+            .unwrap();
+        assert_eq!(out[0].track.unwrap().id, None);
     }
 
     #[test]
