@@ -100,8 +100,8 @@ pub const GATE_SPREADS: f64 = 3.0;
 /// ([`GATE_SPREADS`]). The distances a gate lets in make the spread that sets it, so a track
 /// that takes someone else's detection now and then (two people in a line of sight, their
 /// joints lifted onto each other) would otherwise widen its gate with each one, and take more.
-/// A heading that wavers by two degrees scatters a person 8 m away about as far. Dev: the same
-/// tracking as with no bound.
+/// A heading that wavers by two degrees scatters a person 8 m away about as far. Dev: within a
+/// few identity switches of no bound.
 pub const MAX_SPREAD_GATE: f64 = 2.0;
 
 /// Time constant (s) over which a track forgets its association distances ([`GATE_SPREADS`]):
