@@ -11,14 +11,13 @@
 //! further apart than `gate` are refused, or than [`GATE_SPREADS`] times the track's recent
 //! association distance where that is wider (a measured centre that scatters; at most
 //! [`MAX_SPREAD_GATE`] times `gate`), the gate widened at [`BLIND_PACE`] for the time the
-//! camera sent no frame since the track was last matched.
-//! An unmatched detection opens a tentative track, which is confirmed (and given the next id)
-//! after `min_hits` matched frames, unless it lies within [`MIN_SEPARATION`] of a detection a
-//! track took: the same body seen twice. A confirmed track unmatched for `max_missing` seconds
-//! is dropped, a tentative one at its first miss, and any track unmatched in a frame where its
-//! person is expected within [`MIN_SEPARATION`] of a track's matched in it: the same body
-//! tracked twice (the two would take its detection in turns, and its reported id change every
-//! frame).
+//! camera sent no frame since the track was last matched. An unmatched detection opens a
+//! tentative track, which is confirmed (and given the next id) after `min_hits` matched frames,
+//! unless it lies within [`MIN_SEPARATION`] of a detection a track took: the same body seen
+//! twice. A confirmed track unmatched for `max_missing` seconds is dropped, a tentative one at
+//! its first miss, and any track unmatched in a frame where its person is expected within
+//! [`MIN_SEPARATION`] of a track's matched in it: the same body tracked twice (the two would
+//! take its detection in turns, and its reported id change every frame).
 //!
 //! At most `capacity` tracks live at once and a frame holds at most `max_detections`
 //! detections; every buffer grows to those bounds at most, and a dropped track's [`Person`] is
@@ -86,12 +85,12 @@ pub const MIN_SEPARATION: f64 = 0.25;
 /// 2 m/s, where the two slowest lost about as few people and passed fewest ids on.
 pub const BLIND_PACE: f64 = 1.0;
 
-/// How many times a track's recent association distance (root mean square, between where its
-/// person was expected and the detection it took) its gate reaches, where that is wider than
-/// `gate`: a person whose measured centre scatters from frame to frame (told the camera's pose
-/// with a heading that wavers, which moves everyone by their distance times the error) is
-/// looked for within three of the track's own recent distances, and a still, well-measured one
-/// within `gate`. Three spreads hold nearly every step of a normal scatter. Dev (a wavering
+/// A track's gate reaches this many times its recent association distance (root mean square,
+/// from one frame to the next, between where its person was expected and the detection it
+/// took) where that is wider than `gate`: a person whose measured centre scatters from frame to
+/// frame (told the camera's pose with a heading that wavers, which moves everyone by their
+/// distance times the error) is looked for within three of the track's own recent distances,
+/// and a still, well-measured one within `gate`. Three spreads hold nearly every step of a normal scatter. Dev (a wavering
 /// heading, `eval scenes --pose-noise 2`): two left most of the identity switches the scatter
 /// made, four passed more ids on to someone else (docs/benchmark_log.md).
 pub const GATE_SPREADS: f64 = 3.0;

@@ -93,6 +93,11 @@ class Faults:
         }
 
     @property
+    def pose(self) -> bool:
+        """Whether the camera's pose is told otherwise than it was (late, or wavering)."""
+        return bool(self.pose_lag or self.pose_noise)
+
+    @property
     def options(self) -> str:
         """The command-line options that ask for them, as a user typed them."""
         return " ".join(f"--{o} {v:g}" for o, v in self._asked().items() if v)
@@ -101,7 +106,7 @@ class Faults:
         """What the report says they were (``dropped`` of ``frames`` frames never given)."""
         if not self:
             return []
-        told = ", each with the camera's pose told as asked" if self.pose_lag or self.pose_noise else ""
+        told = ", each with the camera's pose told as asked" if self.pose else ""
         return [
             f"sensor faults ({self.options}): {dropped} of {frames} frames dropped, "
             f"the rest given to the tracker as recorded{told}"
@@ -142,7 +147,7 @@ class Faults:
         """The camera the pipeline is told with each of ``spec``'s frames: the scene's own, from
         :attr:`pose_lag` before the frame and turned by a heading error of :attr:`pose_noise`;
         None where neither is asked (the scene's own, exactly)."""
-        if not (self.pose_lag or self.pose_noise):
+        if not self.pose:
             return None
         if self.pose_lag and spec.robot is None:
             raise ValueError(
