@@ -187,6 +187,17 @@ def test_demo_runs_on_bundled_data_and_matches_the_truth(tmp_path, capsys):
     printed = capsys.readouterr().out
     lines = [json.loads(line) for line in (tmp_path / "frames.jsonl").read_text().splitlines()]
     assert len(lines) == 90 and (tmp_path / "demo.png").stat().st_size > 10_000
+    # Each confirmed track's pose is also its REP-155 body frame: x out of the chest at the
+    # reported azimuth and elevation, the frame named after the track.
+    framed = [p for line in lines for p in line["people"] if p["id"] is not None and p["centre"]]
+    assert len(framed) > 80 and all(p["body_frame"]["child_frame_id"] == f"body_{p['id']}" for p in framed)
+    for p in framed:
+        x_axis = Rotation.from_quat(p["body_frame"]["rotation"]).apply([1.0, 0.0, 0.0])
+        az, el = p["azimuth"], p["elevation"]
+        normal = [np.sin(el) * np.cos(az), np.sin(el) * np.sin(az), np.cos(el)]
+        np.testing.assert_allclose(x_axis, normal, atol=1e-3)
+        assert p["body_frame"]["translation"] == p["centre"]
+    assert not any("body_frame" in p for line in lines for p in line["people"] if p["id"] is None)
     assert (tmp_path / "overlay.avi").stat().st_size > 90 * 10_000  # 90 JPEGs of 640x480
     # Measured on test_walking_1 with the bundled MoveNet: azimuth error median 1.9 deg, 90th
     # percentile 5.3 deg; forecast centre error 0.4 s ahead 5 cm against 51 cm for holding

@@ -62,6 +62,30 @@ def test_shoulder_heading_is_the_shoulder_line_rotated_about_gravity():
     np.testing.assert_allclose(centre, [1.15, 1.05, 1.425])
 
 
+def test_the_body_frame_of_a_fitted_torso_is_the_bodys_own_frame(rng):
+    # A torso turned by a yaw and leant forward or back by a pitch: its own frame (x out of the
+    # chest, y to its left, z up the spine) is SciPy's intrinsic z-then-y rotation, which the
+    # plane's azimuth and elevation, put back together as a REP-155 body frame, must give.
+    from scipy.spatial.transform import Rotation
+
+    for _ in range(200):
+        yaw, pitch = rng.uniform(-np.pi, np.pi), rng.uniform(-1.2, 1.2)
+        offset = rng.uniform(-4, 4, 3)
+        plane = tc.fit_plane(torso(yaw, pitch, offset, rng, noise=0)[:4], "LRLR")
+        pose = [*plane.centre, plane.azimuth, plane.elevation]
+        translation, rotation = tc.body_frame(pose)
+        truth = Rotation.from_euler("ZY", [yaw, pitch])
+        assert (Rotation.from_quat(rotation).inv() * truth).magnitude() < 1e-9
+        np.testing.assert_allclose(translation, plane.centre)
+        assert rotation[3] >= 0 and np.linalg.norm(rotation) == pytest.approx(1.0)
+    with pytest.raises(tc.InvalidArgumentError, match="elevation"):
+        tc.body_frame([0.0, 0.0, 1.0, 0.0, -0.2])
+    with pytest.raises(tc.NonFiniteError, match="pose"):
+        tc.body_frame([0.0, 0.0, np.inf, 0.0, 1.5])
+    with pytest.raises(tc.ShapeError, match="pose"):
+        tc.body_frame([0.0, 0.0, 1.0, 0.0])
+
+
 def test_plane_errors_are_typed(rng):
     pts = torso(0.0, 0.0, [0, 0, 1], rng, noise=0)
     with pytest.raises(tc.TooFewJointsError, match="joints"):

@@ -37,6 +37,7 @@ __all__ = [
     "Tracker",
     "TrackerConfig",
     "__version__",
+    "body_frame",
     "butter_lowpass",
     "fit_plane",
     "fit_planes",
@@ -93,6 +94,14 @@ def fit_planes(
     min_orientation_cosine: float | None = None,
 ) -> dict[str, npt.NDArray[np.float64] | npt.NDArray[np.uint8]]: ...
 def shoulder_heading(left: _Floats, right: _Floats) -> tuple[_F64, float]: ...
+def body_frame(pose: _Floats) -> tuple[_F64, _F64]:
+    """The body frame of ``pose`` ``[x, y, z, azimuth, elevation]`` in its world frame (REP-155's
+    ``body_<id>``): the translation (the pose's centre) and the rotation as a unit quaternion
+    ``[x, y, z, w]`` (ROS's order, ``w`` never negative). The frame's x axis points out of the
+    chest (the pose's normal), z towards the head (in the vertical plane through the normal: the
+    roll a five-component pose does not carry), y to the body's left. Raises
+    ``NonFiniteError`` for a component that is not finite, ``InvalidArgumentError`` for an
+    elevation outside 0 to π, ``ShapeError`` for a pose that is not five numbers."""
 
 @final
 class JointGate:

@@ -14,6 +14,7 @@ from typing import IO, Any
 
 import numpy as np
 
+from ._core import body_frame
 from .pipeline import FrameResult
 from .sources import SkippedFrame
 
@@ -62,6 +63,13 @@ def record(result: FrameResult, horizons: Sequence[float]) -> dict[str, Any]:
                     weight=_clean(obs.weight),
                     grid=obs.grid,
                 )
+                if obs.pose is not None and outcome.track_id is not None:
+                    translation, rotation = body_frame(obs.pose)
+                    person["body_frame"] = {
+                        "child_frame_id": f"body_{outcome.track_id}",
+                        "translation": _clean(translation),
+                        "rotation": _clean(rotation, 6),
+                    }
             ahead = result.forecasts.get(i)
             spread = result.intervals.get(i)
             person["forecast"] = (

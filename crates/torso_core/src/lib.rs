@@ -38,6 +38,7 @@
 
 pub mod assignment;
 pub mod banded;
+pub mod body_frame;
 pub mod bspline;
 pub mod butterworth;
 pub mod camera;
@@ -59,6 +60,7 @@ pub mod trend;
 mod vec3;
 
 pub use assignment::{linear_assignment, Assignment};
+pub use body_frame::BodyFrame;
 pub use butterworth::{design_lowpass, LowPass, SosFilter, ZeroPhase};
 pub use error::{Error, Result};
 pub use forecaster::{

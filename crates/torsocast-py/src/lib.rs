@@ -3,6 +3,7 @@
 
 mod arrays;
 mod assignment;
+mod body_frame;
 mod config;
 mod errors;
 mod filter;
@@ -22,6 +23,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(plane::fit_plane, m)?)?;
     m.add_function(wrap_pyfunction!(plane::fit_planes, m)?)?;
     m.add_function(wrap_pyfunction!(plane::shoulder_heading, m)?)?;
+    m.add_function(wrap_pyfunction!(body_frame::body_frame, m)?)?;
     m.add_class::<gating::JointGate>()?;
     m.add_function(wrap_pyfunction!(filter::butter_lowpass, m)?)?;
     m.add_function(wrap_pyfunction!(filter::lowpass_causal, m)?)?;
