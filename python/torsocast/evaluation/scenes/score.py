@@ -154,7 +154,6 @@ class Scorer:
 
     def __init__(self, scene: RenderedScene, horizons: list[float], min_score: float) -> None:
         self.scene, self.horizons, self.min_score = scene, horizons, min_score
-        self.camera_xy = np.asarray(scene.camera.camera_to_world)[:2, 3]
         self.score = SceneScore()
         self.velocity: dict[int, Forecaster] = {}
         self.seen_ids: dict[int, list[tuple[float, int | None]]] = defaultdict(list)
@@ -167,14 +166,15 @@ class Scorer:
             "people": len(spec.actors),
         }
 
-    def _row(self, table: dict[str, list], actor: int, t: float, truth: F64) -> None:  # type: ignore[type-arg]
+    def _row(self, table: dict[str, list], actor: int, t: float, truth: F64, camera_xy: F64) -> None:  # type: ignore[type-arg]
+        """The conditions of a person-frame: ``camera_xy`` is where the frame was seen from."""
         for key, value in self.conditions.items():
             table[key].append(value)
         table["t"].append(t)
         table["actor"].append(actor)
         table["category"].append(self.scene.category(actor))
-        table["view"].append(view_angle(truth, self.camera_xy))
-        table["distance"].append(float(np.linalg.norm(truth[:2] - self.camera_xy)))
+        table["view"].append(view_angle(truth, camera_xy))
+        table["distance"].append(float(np.linalg.norm(truth[:2] - camera_xy)))
         table["tilt"].append(tilt_angle(truth))
 
     def __call__(
@@ -193,7 +193,7 @@ class Scorer:
         # that tells the pipeline another pose keeps the true one in the frame's extra.
         camera = result.frame.extra.get("camera", result.frame.camera)
         assert camera is not None  # a scene's frames carry their camera
-        self.camera_xy = np.asarray(camera.camera_to_world)[:2, 3]
+        camera_xy = np.asarray(camera.camera_to_world)[:2, 3]
         by_actor = {a: d for d, a in enumerate(owner) if a >= 0}
         self.score.false_positives += sum(1 for a in owner if a < 0)
         for tracked in result.people:  # the velocity reference sees what the tracks see
@@ -217,7 +217,7 @@ class Scorer:
                 observation = None  # no estimate this frame: nothing of it is scored
             pose = observation.pose if observation is not None else None
             r = self.score.recovery
-            self._row(r, actor, t, truth[actor])
+            self._row(r, actor, t, truth[actor], camera_xy)
             r["estimated"].append(pose is not None)
             r["confident"].append(observation is not None and bool(observation.heading_confident))
             r["facing_evidence"].append(
@@ -240,10 +240,17 @@ class Scorer:
             self.seen_ids[actor].append((t, track_id))
             if pose is not None and person is not None and d in result.forecasts:
                 spread = result.intervals.get(d)
-                self._forecasts(actor, t, pose, result.forecasts[d], spread, person)
+                self._forecasts(actor, t, pose, result.forecasts[d], spread, person, camera_xy)
 
     def _forecasts(
-        self, actor: int, t: float, pose: F64, ahead: F64, spread: F64 | None, person: TrackOutcome
+        self,
+        actor: int,
+        t: float,
+        pose: F64,
+        ahead: F64,
+        spread: F64 | None,
+        person: TrackOutcome,
+        camera_xy: F64,
     ) -> None:
         origin = person.last_time
         assert origin is not None and person.key is not None  # a forecast has both
@@ -257,7 +264,7 @@ class Scorer:
             if not np.isfinite(then).all() or not np.isfinite(now).all() or cv is None:
                 continue
             f = self.score.forecasts
-            self._row(f, actor, t, now)
+            self._row(f, actor, t, now, camera_xy)
             f["horizon"].append(h)
             since = self.sides[(person.key, actor)].since
             f["track_age"].append(t - since if since is not None else 0.0)
