@@ -175,6 +175,52 @@ def test_a_frame_stamped_an_hour_ahead_costs_one_restart_not_the_following_hour(
     assert records[-1]["people"][0]["forecast"] is not None
 
 
+def test_a_walker_unseen_for_a_second_is_reported_where_the_walk_went_on(walk, tmp_path):
+    import dataclasses
+
+    from torsocast.keypoints import open_model
+    from torsocast.pipeline import Pipeline
+    from torsocast.run import run
+
+    # A second of frames without depth (no 3D joints: the track takes nothing) in the middle
+    # of the walk: the confirmed track is kept and reported unseen, forecast to each frame's
+    # time along the walk, and takes its person again afterwards.
+    frames = list(MocapScene(walk, fps=10.0))
+    gap = range(15, 25)
+    frames = [dataclasses.replace(f, depth=None) if k in gap else f for k, f in enumerate(frames)]
+    pipeline = Pipeline(open_model())
+    results = []
+    for f in frames:
+        results.append(pipeline(f))
+        if len(results) == 15:  # the track's intervals by id are those its outcome gave
+            by_id = pipeline.tracker.intervals(1, list(pipeline.horizons))
+            np.testing.assert_array_equal(by_id, results[-1].intervals[0])
+    assert all(not r.unseen for r in results[:15]) and pipeline.tracker.intervals(7, [0.4]) is None
+    for k in gap:
+        (track,) = results[k].unseen
+        truth = np.asarray(frames[k].extra["truth"]).reshape(-1, 5)[0]
+        assert track.id == 1 and track.last_time == pytest.approx(frames[14].time, abs=0.021)
+        assert track.pose is not None and track.half_width80 is not None
+        assert np.linalg.norm(track.pose[:2] - truth[:2]) < 0.1  # the walk goes on 1.2 m
+        assert np.all(track.half_width80 > 0)
+    assert [p.track_id for p in results[25].people] == [1] and not results[25].unseen
+
+    # Unseen for longer than the tracker keeps a track (2 s), it is no longer reported.
+    long_gap = [dataclasses.replace(f, depth=None) if k >= 3 else f for k, f in enumerate(frames)]
+    pipeline = Pipeline(open_model())
+    reported = [len(pipeline(f).unseen) for f in long_gap]
+    # Last seen in frame 2 (0.2 s): reported up to 2 s later, then dropped.
+    assert reported == [0] * 3 + [1] * 20 + [0] * (len(frames) - 23)
+
+    # Each JSON Lines line lists them, with their body frame.
+    run(Replay(frames), open_model(), tmp_path, progress=False)
+    lines = [json.loads(line) for line in (tmp_path / "frames.jsonl").read_text().splitlines()]
+    assert [len(line["unseen"]) for line in lines] == [0] * 15 + [1] * 10 + [0] * (len(frames) - 25)
+    hidden = lines[20]["unseen"][0]
+    assert hidden["id"] == 1 and hidden["body_frame"]["child_frame_id"] == "body_1"
+    assert hidden["body_frame"]["translation"] == hidden["pose"][:3]
+
+
 def test_the_demo_camera_sees_the_walk_come_towards_it(walk):
     camera = watching_camera(walk[:, cmu.PELVIS])
     position = np.asarray(camera.camera_to_world)[:3, 3]

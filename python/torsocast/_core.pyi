@@ -460,6 +460,9 @@ class Tracker:
     def forecast(self, track_id: int, horizons: _Floats) -> _F64 | None:
         """The confirmed track's ``(len(horizons), 5)`` forecast; None for an unknown id or a
         history too short."""
+    def intervals(self, track_id: int, horizons: _Floats) -> _F64 | None:
+        """The ``(len(horizons), 5)`` half-widths of the 80 % intervals around the confirmed
+        track's forecast; None for an unknown id or a history too short for a line."""
     def restart(self) -> None:
         """Drops every track and forgets the last frame's time, as for a new stream; ids go on
         counting."""

@@ -64,12 +64,7 @@ def record(result: FrameResult, horizons: Sequence[float]) -> dict[str, Any]:
                     grid=obs.grid,
                 )
                 if obs.pose is not None and outcome.track_id is not None:
-                    translation, rotation = body_frame(obs.pose)
-                    person["body_frame"] = {
-                        "child_frame_id": f"body_{outcome.track_id}",
-                        "translation": _clean(translation),
-                        "rotation": _clean(rotation, 6),
-                    }
+                    person["body_frame"] = _body_frame(outcome.track_id, obs.pose)
             ahead = result.forecasts.get(i)
             spread = result.intervals.get(i)
             person["forecast"] = (
@@ -85,11 +80,35 @@ def record(result: FrameResult, horizons: Sequence[float]) -> dict[str, Any]:
                 ]
             )
         people.append(person)
+    unseen = [
+        {
+            "id": track.id,
+            "last_time": _clean(track.last_time, 6),
+            "pose": _clean(track.pose),
+            "half_width80": _clean(track.half_width80),
+            "body_frame": None if track.pose is None else _body_frame(track.id, track.pose),
+        }
+        for track in result.unseen
+    ]
     return {
         "schema": SCHEMA,
         "frame": result.frame.index,
         "time": _clean(result.frame.time, 6),
         "people": people,
+        "unseen": unseen,
+    }
+
+
+def _body_frame(track_id: int, pose: np.ndarray) -> dict[str, Any] | None:
+    """The REP-155 body frame ``body_<id>`` of a pose; None for a forecast whose elevation has
+    left 0 to π (no upright direction to take the frame's roll from)."""
+    if not 0.0 <= pose[4] <= math.pi:
+        return None
+    translation, rotation = body_frame(pose)
+    return {
+        "child_frame_id": f"body_{track_id}",
+        "translation": _clean(translation),
+        "rotation": _clean(rotation, 6),
     }
 
 

@@ -31,6 +31,23 @@ class BadFrameError(ValueError):
     """A frame the pipeline cannot use (its model output is not keypoints); nothing changed."""
 
 
+@dataclass(frozen=True)
+class UnseenTrack:
+    """A confirmed track the frame did not show (hidden, out of view, not detected), kept while
+    its person may come back (``TrackerConfig.max_missing``): where its forecast puts the person
+    at the frame's time."""
+
+    id: int
+    last_time: float
+    """Grid time of the track's newest sample, about when its person was last seen."""
+    pose: F64 | None
+    """``(5,)`` the track's forecast for the frame's time; None while its history is too short
+    to forecast."""
+    half_width80: F64 | None
+    """``(5,)`` half-widths of the 80 % interval around ``pose``; None while its history is too
+    short for a line."""
+
+
 @dataclass
 class FrameResult:
     frame: Frame
@@ -47,6 +64,8 @@ class FrameResult:
     restarted_from: float | None = None
     """The previous frame's time when this frame's clock went back by more than
     :attr:`Pipeline.restart_after`: every track was dropped and tracking started again."""
+    unseen: list[UnseenTrack] = field(default_factory=list)
+    """The confirmed tracks this frame did not show, in order of birth."""
 
 
 @dataclass
@@ -116,7 +135,15 @@ class Pipeline:
                 before_restart,
             )
             self.frames += 1
-            return FrameResult(frame, detections, None, [], {}, restarted_from=restarted_from)
+            return FrameResult(
+                frame,
+                detections,
+                None,
+                [],
+                {},
+                restarted_from=restarted_from,
+                unseen=self._unseen(frame.time, []),
+            )
         camera, depth = frame.camera, frame.depth
         k = camera.intrinsics
         joints, people = self._tracked(
@@ -169,11 +196,33 @@ class Pipeline:
     def _finish(
         self, frame: Frame, detections: Detections, joints: F64, people: list[TrackOutcome], clock: float
     ) -> FrameResult:
+        unseen = self._unseen(frame.time, people)  # the core's forecasts: tracking time too
         self._lap("tracking", clock)
         self.frames += 1
         forecasts = {p.detection: p.forecast for p in people if p.forecast is not None}
         intervals = {p.detection: p.intervals for p in people if p.intervals is not None}
-        return FrameResult(frame, detections, joints, people, forecasts, intervals)
+        return FrameResult(frame, detections, joints, people, forecasts, intervals, unseen=unseen)
+
+    def _unseen(self, t: float, people: list[TrackOutcome]) -> list[UnseenTrack]:
+        """The confirmed tracks that took no detection in the frame at ``t``, each forecast to ``t``."""
+        shown = {p.track_id for p in people}
+        unseen = []
+        for track in self.tracker.tracks:
+            if track.id in shown or track.last_time is None:
+                continue
+            # The grid slot of the last sample may lie a little after that frame's time.
+            ahead = [max(t - track.last_time, 0.0)]
+            pose = self.tracker.forecast(track.id, ahead)
+            spread = self.tracker.intervals(track.id, ahead)
+            unseen.append(
+                UnseenTrack(
+                    track.id,
+                    track.last_time,
+                    None if pose is None else pose[0],
+                    None if spread is None else spread[0],
+                )
+            )
+        return unseen
 
     def _lap(self, stage: str, since: float) -> float:
         now = time.perf_counter()

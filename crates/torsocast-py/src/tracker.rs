@@ -349,6 +349,30 @@ impl Tracker {
         }
     }
 
+    /// intervals(track_id, horizons) -> (len(horizons), 5) or None: the half-widths of the 80 %
+    /// intervals around the confirmed track's forecast (None for an unknown id or a history
+    /// too short for a line).
+    fn intervals<'py>(
+        &mut self,
+        py: Python<'py>,
+        track_id: u64,
+        horizons: Vec<f64>,
+    ) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
+        let Some(slot) = self.slot_of(track_id) else {
+            return Ok(None);
+        };
+        self.poses.resize(horizons.len(), [0.0; 5]);
+        if self
+            .inner
+            .intervals(slot, &horizons, &mut self.poses)
+            .map_err(to_py)?
+        {
+            Ok(Some(matrix(py, &self.poses)?))
+        } else {
+            Ok(None)
+        }
+    }
+
     /// A copy with every track's state (`copy.copy` and `copy.deepcopy` give it).
     fn __copy__(&self) -> Self {
         Self {
