@@ -63,6 +63,7 @@ from torsocast.evaluation.scenes.tables import (
     scene_interval,
     scene_percentile_draws,
     tilt_bin,
+    unseen_table,
     view_bin,
 )
 from torsocast.keypoints import coco, open_model
@@ -491,6 +492,32 @@ def test_view_distance_age_and_tilt_bins():
     )
     assert tilt_angle(upright) == pytest.approx(0.0)
     assert tilt_angle(lying_face_up) == pytest.approx(90.0) == tilt_angle(bent_double)
+
+
+def test_unseen_tracks_are_tabled_by_how_long_they_went_unseen():
+    # Six track-frames: three unseen under 0.4 s, one up to 1 s, two longer; the reported pose
+    # and the held estimate each err by a known amount (m and rad).
+    cols = {
+        "unseen_for": np.array([0.04, 0.2, 0.39, 0.4, 1.0, 1.9]),
+        "in_view": np.array([True, False, False, True, False, False]),
+        "forecast_centre": np.array([0.1, 0.2, 0.6, 0.3, 1.0, 2.0]),
+        "hold_centre": np.array([0.1, 0.4, 0.7, 0.5, 1.5, 1.0]),
+        "forecast_azimuth": np.zeros(6),
+        "hold_azimuth": np.full(6, 0.5),
+        "forecast_elevation": np.zeros(6),
+        "hold_elevation": np.zeros(6),
+    }
+    rows = {r["group"]: r for r in unseen_table(cols)}
+    assert list(rows) == ["under 0.4 s", "0.4-1 s", "1 s and more", "all"]
+    assert [rows[g]["n"] for g in rows] == [3, 1, 2, 6]
+    assert rows["under 0.4 s"]["in_view"] == pytest.approx(1 / 3) and rows["all"]["in_view"] == pytest.approx(
+        1 / 3
+    )
+    assert rows["under 0.4 s"]["forecast_centre_median"] == pytest.approx(0.2)
+    assert rows["under 0.4 s"]["hold_centre_mean"] == pytest.approx(0.4)
+    assert rows["1 s and more"]["forecast_centre_mean"] == pytest.approx(1.5)
+    assert rows["all"]["hold_azimuth_median"] == pytest.approx(0.5)
+    assert unseen_table({}) == []
 
 
 def test_a_flip_is_put_down_to_the_first_rule_that_explains_it():
@@ -1018,7 +1045,7 @@ def test_a_replayed_scene_scores_as_the_live_one(tmp_path):
     assert frames == 26 and len(list(tmp_path.glob("*.npz"))) == 1
     replayed, picture, _ = run_scene(spec, catalogue, model, cache=tmp_path)
     assert picture is None and len(live.forecasts["t"]) > 0
-    for table in ("recovery", "forecasts", "identity"):
+    for table in ("recovery", "forecasts", "identity", "unseen"):
         assert dict(getattr(replayed, table)) == dict(getattr(live, table)), table
     # The same recording with the seen torso and leg joints put at the truth's: the heading is
     # the true one to within a fraction of a degree (a few on the track's first frame), where
@@ -1268,6 +1295,14 @@ def test_eval_scenes_quick_runs_and_its_numbers_come_back_for_the_seed(tmp_path,
     assert sum(r["estimates"] for r in by_evidence) == estimated
     weakest, strongest = by_evidence[0], by_evidence[-1]
     assert strongest["share"] > 0.2 and strongest["flips"] < 0.25 * weakest["flips"]
+    # Tracks the frames did not show are reported with their forecast for the frame's time, and
+    # scored against the person they last showed (measured: 195 track-frames, the centre's
+    # median 6.4 cm against 7.9 for holding the last estimate; the mean 89.6 against 79.9, walks
+    # continued past where they stopped).
+    unseen = {r["group"]: r for r in tables["unseen"]}
+    assert unseen["all"]["n"] == sum(r["n"] for g, r in unseen.items() if g != "all") > 50
+    assert unseen["all"]["forecast_centre_median"] < 1.1 * unseen["all"]["hold_centre_median"]
+    assert (tmp_path / "unseen.csv").is_file()
     assert {r["horizon"] for r in tables["forecasts"]["all"]} == {0.4, 1.0, 2.0}
     assert {r["group"] for r in tables["recovery"]["category"]} <= {
         "cmu walking",

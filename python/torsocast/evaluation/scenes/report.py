@@ -10,9 +10,9 @@ from typing import Any
 
 import numpy as np
 
-from .run import Benchmark
+from .run import TABLES, Benchmark
 from .score import BAD_LINE_DEG, COMPONENTS, FLIP_DEG, METHODS, YOUNG_FRAMES
-from .tables import CALIBRATED, CHECKED_AXES, INTERVAL, UNIT, checked_cells, tables
+from .tables import CALIBRATED, CHECKED_AXES, INTERVAL, SCALE, UNIT, checked_cells, tables
 
 METHOD_NAMES = {
     "forecast": "torsocast",
@@ -236,6 +236,28 @@ def _flip_evidence_md(rows: list[dict[str, Any]]) -> list[str]:
     return out
 
 
+def _unseen_md(rows: list[dict[str, Any]]) -> list[str]:
+    lines = [
+        "Each confirmed track that a frame did not show (the person hidden, out of view or not "
+        "detected) is reported with its forecast for the frame's time (`unseen`), for as long as the "
+        "tracker keeps it; against the true pose of the person the track last showed, beside holding "
+        "the track's last estimate of them. In view: the person's torso was in the image and not "
+        "hidden, and no detection of them continued the track. Median / mean; centre cm, azimuth "
+        "degrees.",
+        "",
+        "| unseen for | track-frames | in view | centre: reported | held | azimuth: reported | held |",
+        "|---|---:|---:|---:|---:|---:|---:|",
+    ]
+    for r in rows:
+        cells = [
+            f"{_f(r[f'{m}_{c}_median'] * SCALE[c])} / {_f(r[f'{m}_{c}_mean'] * SCALE[c])}"
+            for c in ("centre", "azimuth")
+            for m in ("forecast", "hold")
+        ]
+        lines.append(f"| {r['group']} | {r['n']} | {_pct(r['in_view'])} | " + " | ".join(cells) + " |")
+    return lines
+
+
 def markdown(bench: Benchmark, t: dict[str, Any], figures: list[str]) -> str:
     rec = t["recovery"]["all"][0]
     kind = "quick run" if bench.quick else "full run"
@@ -330,6 +352,8 @@ def markdown(bench: Benchmark, t: dict[str, Any], figures: list[str]) -> str:
         "(an id passed on to another person: a switch counts a person's own id changing, not "
         "the id they were given instead).",
     ]
+    if t.get("unseen"):
+        lines += ["", "## People unseen", "", *_unseen_md(t["unseen"])]
     if figures:
         lines += ["", "## Figures", ""] + [f"![{Path(f).stem}]({f})" for f in figures]
     return "\n".join(lines) + "\n"
@@ -360,7 +384,12 @@ def write(bench: Benchmark, out: str | Path, draw: bool = True) -> tuple[str, li
     returns the Markdown and the files written."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    t = tables(bench.columns("recovery"), bench.columns("forecasts"), bench.columns("identity"))
+    t = tables(
+        bench.columns("recovery"),
+        bench.columns("forecasts"),
+        bench.columns("identity"),
+        bench.columns("unseen"),
+    )
     written, figures = [], []
     if draw:
         from .figures import draw_all
@@ -385,11 +414,11 @@ def write(bench: Benchmark, out: str | Path, draw: bool = True) -> tuple[str, li
     }
     (out / "report.json").write_text(json.dumps(_clean(summary), indent=1))
     (out / "scenes.json").write_text(json.dumps(_clean([asdict(s) for s in bench.specs]), indent=1))
-    for table in ("recovery", "forecasts", "identity"):
+    for table in TABLES:
         _write_csv(out / f"{table}.csv", getattr(bench, table))
     written = (
         [out / "report.md", out / "report.json", out / "scenes.json"]
-        + [out / f"{n}.csv" for n in ("recovery", "forecasts", "identity")]
+        + [out / f"{n}.csv" for n in TABLES]
         + written
     )
     return text, written

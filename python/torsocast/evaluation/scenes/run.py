@@ -23,6 +23,9 @@ from .plan import FULL, QUICK, ROBOT_SPEED, Catalogue, Size, draw_scene, on_robo
 from .score import SceneScore, Scorer, assign
 
 HORIZONS = (0.4, 1.0, 2.0)
+#: The records a run keeps, one CSV each: per person-frame, per forecast and horizon, per
+#: person, per unseen track and frame.
+TABLES = ("recovery", "forecasts", "identity", "unseen")
 #: The multi-person model, when none is given: YOLO11n-pose at 640 (AGPL weights, not shipped).
 YOLO_ENV = "TORSOCAST_YOLO"
 
@@ -59,6 +62,7 @@ class Benchmark:
     recovery: dict[str, list] = field(default_factory=lambda: defaultdict(list))  # type: ignore[type-arg]
     forecasts: dict[str, list] = field(default_factory=lambda: defaultdict(list))  # type: ignore[type-arg]
     identity: dict[str, list] = field(default_factory=lambda: defaultdict(list))  # type: ignore[type-arg]
+    unseen: dict[str, list] = field(default_factory=lambda: defaultdict(list))  # type: ignore[type-arg]
     false_positives: int = 0
     frames: int = 0
     notes: list[str] = field(default_factory=list)
@@ -267,7 +271,7 @@ def evaluate(
         model = models.for_scene(spec)
         assert model is not None
         score, best, frames = run_scene(spec, catalogue, model, cache=cache, oracle=oracle, faults=faults)
-        for table in ("recovery", "forecasts", "identity"):
+        for table in TABLES:
             for key, values in getattr(score, table).items():
                 getattr(bench, table)[key].extend(values)
         bench.false_positives += score.false_positives

@@ -126,6 +126,7 @@ class SceneScore:
     recovery: dict[str, list] = field(default_factory=lambda: defaultdict(list))  # type: ignore[type-arg]
     forecasts: dict[str, list] = field(default_factory=lambda: defaultdict(list))  # type: ignore[type-arg]
     identity: dict[str, list] = field(default_factory=lambda: defaultdict(list))  # type: ignore[type-arg]
+    unseen: dict[str, list] = field(default_factory=lambda: defaultdict(list))  # type: ignore[type-arg]
     false_positives: int = 0
 
 
@@ -158,6 +159,8 @@ class Scorer:
         self.velocity: dict[int, Forecaster] = {}
         self.seen_ids: dict[int, list[tuple[float, int | None]]] = defaultdict(list)
         self.sides: dict[tuple[int, int], TrackSide] = defaultdict(TrackSide)
+        # Per confirmed track id: the person it last showed, and its last estimate of them.
+        self.shown: dict[int, tuple[int, F64]] = {}
         spec = scene.spec
         self.conditions = {
             "scene": spec.name,
@@ -241,6 +244,32 @@ class Scorer:
             if pose is not None and person is not None and d in result.forecasts:
                 spread = result.intervals.get(d)
                 self._forecasts(actor, t, pose, result.forecasts[d], spread, person, camera_xy)
+        # Every detection of a person, in view or not (a torso mostly out of the image or hidden
+        # is still detected and tracked), is that track's last estimate of them.
+        for d, tracked in enumerate(result.people):
+            obs = tracked.observation
+            if tracked.track_id is not None and obs is not None and obs.pose is not None and owner[d] >= 0:
+                self.shown[tracked.track_id] = (owner[d], obs.pose)
+        self._unseen(t, result, visible, truth, camera_xy)
+
+    def _unseen(
+        self, t: float, result: FrameResult, visible: npt.NDArray[np.bool_], truth: F64, camera_xy: F64
+    ) -> None:
+        """Each unseen track's pose for the frame (:attr:`FrameResult.unseen`) against the truth of
+        the person it last showed, beside holding its last estimate of them."""
+        u = self.score.unseen
+        for track in result.unseen:
+            if track.pose is None or track.id not in self.shown:
+                continue
+            actor, held = self.shown[track.id]
+            if not np.isfinite(truth[actor]).all():
+                continue
+            self._row(u, actor, t, truth[actor], camera_xy)
+            u["unseen_for"].append(t - track.last_time)
+            u["in_view"].append(bool(visible[actor]))
+            for method, guess in (("forecast", track.pose), ("hold", held)):
+                for component, e in zip(COMPONENTS, pose_errors(guess, truth[actor])):
+                    u[f"{method}_{component}"].append(e)
 
     def _forecasts(
         self,

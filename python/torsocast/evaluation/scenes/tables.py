@@ -31,6 +31,10 @@ AGE_LABELS = ("under 0.5 s", "0.5-1 s", "1-2 s", "2 s and more")
 #: cell).
 TILT_EDGES = (15.0, 30.0, 60.0)
 TILT_LABELS = ("under 15 deg", "15-30 deg", "30-60 deg", "60 deg and more")
+#: Edges (s) of the bands of how long a track had gone unseen when its pose was reported
+#: (the forecast's horizons).
+UNSEEN_EDGES = (0.4, 1.0)
+UNSEEN_LABELS = ("under 0.4 s", "0.4-1 s", "1 s and more")
 #: From this lean (degrees) on, a comparison gives the flips of a bent person's estimates apart.
 TILTED_DEG = TILT_EDGES[1]
 STATS: dict[str, Callable[[np.ndarray], float]] = {
@@ -70,6 +74,11 @@ def age_bin(seconds: np.ndarray) -> np.ndarray:
     return np.asarray(AGE_LABELS, dtype=object)[bins]  # type: ignore[no-any-return]
 
 
+def unseen_bin(seconds: np.ndarray) -> np.ndarray:
+    bins = np.searchsorted(UNSEEN_EDGES, seconds, side="right")
+    return np.asarray(UNSEEN_LABELS, dtype=object)[bins]  # type: ignore[no-any-return]
+
+
 def tilt_bin(degrees: np.ndarray) -> np.ndarray:
     bins = np.searchsorted(TILT_EDGES, degrees, side="right")
     return np.asarray(TILT_LABELS, dtype=object)[bins]  # type: ignore[no-any-return]
@@ -84,6 +93,8 @@ def condition(cols: Columns, axis: str) -> np.ndarray:
         return age_bin(cols["track_age"])
     if axis == "tilt":
         return tilt_bin(cols["tilt"])
+    if axis == "unseen":
+        return unseen_bin(cols["unseen_for"])
     return cols[axis]
 
 
@@ -97,6 +108,8 @@ def _order(axis: str, values: np.ndarray) -> list[Any]:
         return [v for v in AGE_LABELS if v in unique]
     if axis == "tilt":
         return [v for v in TILT_LABELS if v in unique]
+    if axis == "unseen":
+        return [v for v in UNSEEN_LABELS if v in unique]
     return sorted(unique)
 
 
@@ -331,6 +344,28 @@ def identity_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
     return rows
 
 
+def unseen_table(cols: Columns) -> list[dict[str, Any]]:
+    """Per band of time unseen, then over all: the unseen tracks' reported poses and their last
+    estimates held, against the truth (median and mean per component), and the share whose person
+    was in view."""
+    rows: list[dict[str, Any]] = []
+    if not cols:
+        return rows
+    for label, mask in [*groups(cols, "unseen"), *groups(cols, None)]:
+        row: dict[str, Any] = {
+            "group": label,
+            "n": int(mask.sum()),
+            "in_view": float(np.mean(cols["in_view"][mask])),
+        }
+        for method in ("forecast", "hold"):
+            for component in COMPONENTS:
+                values = cols[f"{method}_{component}"][mask]
+                for stat in ("median", "mean"):
+                    row[f"{method}_{component}_{stat}"] = STATS[stat](values)
+        rows.append(row)
+    return rows
+
+
 TIE = 1e-9
 """Relative difference of two error statistics within which :func:`losses` counts them equal."""
 
@@ -396,8 +431,11 @@ def checked_cells(forecast_rows: dict[str, list[dict[str, Any]]]) -> int:
     return sum(len(forecast_rows.get(axis, [])) for axis in CHECKED_AXES) * len(COMPONENTS) * 2
 
 
-def tables(recovery: Columns, forecasts: Columns, identity: Columns) -> dict[str, Any]:
-    """Every table of the report, by kind and by condition (None: all rows)."""
+def tables(
+    recovery: Columns, forecasts: Columns, identity: Columns, unseen: Columns | None = None
+) -> dict[str, Any]:
+    """Every table of the report, by kind and by condition (None: all rows); the unseen tracks'
+    where their records are given (runs before them kept none)."""
     axes: list[str | None] = [None, *AXES]
     # Records written before forecasts carried the track's age, or the torso's tilt, have no
     # tables by them.
@@ -421,4 +459,5 @@ def tables(recovery: Columns, forecasts: Columns, identity: Columns) -> dict[str
         for against in ("hold", "velocity")
     }
     out["coverage_cells"] = coverage_cells(out["coverage"]["category"])
+    out["unseen"] = unseen_table(unseen or {})
     return out
