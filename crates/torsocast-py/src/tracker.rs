@@ -334,19 +334,9 @@ impl Tracker {
         track_id: u64,
         horizons: Vec<f64>,
     ) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
-        let Some(slot) = self.slot_of(track_id) else {
-            return Ok(None);
-        };
-        self.poses.resize(horizons.len(), [0.0; 5]);
-        if self
-            .inner
-            .forecast(slot, &horizons, &mut self.poses)
-            .map_err(to_py)?
-        {
-            Ok(Some(matrix(py, &self.poses)?))
-        } else {
-            Ok(None)
-        }
+        self.poses_of(py, track_id, &horizons, |t, slot, h, out| {
+            t.forecast(slot, h, out)
+        })
     }
 
     /// intervals(track_id, horizons) -> (len(horizons), 5) or None: the half-widths of the 80 %
@@ -358,19 +348,9 @@ impl Tracker {
         track_id: u64,
         horizons: Vec<f64>,
     ) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
-        let Some(slot) = self.slot_of(track_id) else {
-            return Ok(None);
-        };
-        self.poses.resize(horizons.len(), [0.0; 5]);
-        if self
-            .inner
-            .intervals(slot, &horizons, &mut self.poses)
-            .map_err(to_py)?
-        {
-            Ok(Some(matrix(py, &self.poses)?))
-        } else {
-            Ok(None)
-        }
+        self.poses_of(py, track_id, &horizons, |t, slot, h, out| {
+            t.intervals(slot, h, out)
+        })
     }
 
     /// A copy with every track's state (`copy.copy` and `copy.deepcopy` give it).
@@ -401,6 +381,31 @@ impl Tracker {
 }
 
 impl Tracker {
+    /// The `(len(horizons), 5)` poses `fill` writes for the confirmed track `track_id` (None for
+    /// an unknown id, or where `fill` has none to give).
+    fn poses_of<'py>(
+        &mut self,
+        py: Python<'py>,
+        track_id: u64,
+        horizons: &[f64],
+        fill: impl FnOnce(
+            &mut torso_core::Tracker,
+            usize,
+            &[f64],
+            &mut [Pose],
+        ) -> torso_core::Result<bool>,
+    ) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
+        let Some(slot) = self.slot_of(track_id) else {
+            return Ok(None);
+        };
+        self.poses.resize(horizons.len(), [0.0; 5]);
+        if fill(&mut self.inner, slot, horizons, &mut self.poses).map_err(to_py)? {
+            Ok(Some(matrix(py, &self.poses)?))
+        } else {
+            Ok(None)
+        }
+    }
+
     fn slot_of(&self, track_id: u64) -> Option<usize> {
         self.inner
             .tracks()
