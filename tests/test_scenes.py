@@ -513,10 +513,11 @@ def test_unseen_tracks_are_tabled_by_how_long_they_went_unseen():
     assert rows["under 0.4 s"]["in_view"] == pytest.approx(1 / 3) and rows["all"]["in_view"] == pytest.approx(
         1 / 3
     )
-    assert rows["under 0.4 s"]["forecast_centre_median"] == pytest.approx(0.2)
-    assert rows["under 0.4 s"]["hold_centre_mean"] == pytest.approx(0.4)
-    assert rows["1 s and more"]["forecast_centre_mean"] == pytest.approx(1.5)
-    assert rows["all"]["hold_azimuth_median"] == pytest.approx(0.5)
+    # In cm and degrees, as the forecasts' tables.
+    assert rows["under 0.4 s"]["forecast_centre_median"] == pytest.approx(20.0)
+    assert rows["under 0.4 s"]["hold_centre_mean"] == pytest.approx(40.0)
+    assert rows["1 s and more"]["forecast_centre_mean"] == pytest.approx(150.0)
+    assert rows["all"]["hold_azimuth_median"] == pytest.approx(np.degrees(0.5))
     assert unseen_table({}) == []
 
 

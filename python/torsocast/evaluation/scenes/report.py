@@ -12,7 +12,7 @@ import numpy as np
 
 from .run import TABLES, Benchmark
 from .score import BAD_LINE_DEG, COMPONENTS, FLIP_DEG, METHODS, YOUNG_FRAMES
-from .tables import CALIBRATED, CHECKED_AXES, INTERVAL, SCALE, UNIT, checked_cells, tables
+from .tables import CALIBRATED, CHECKED_AXES, INTERVAL, UNIT, checked_cells, tables
 
 METHOD_NAMES = {
     "forecast": "torsocast",
@@ -250,7 +250,7 @@ def _unseen_md(rows: list[dict[str, Any]]) -> list[str]:
     ]
     for r in rows:
         cells = [
-            f"{_f(r[f'{m}_{c}_median'] * SCALE[c])} / {_f(r[f'{m}_{c}_mean'] * SCALE[c])}"
+            f"{_f(r[f'{m}_{c}_median'])} / {_f(r[f'{m}_{c}_mean'])}"
             for c in ("centre", "azimuth")
             for m in ("forecast", "hold")
         ]

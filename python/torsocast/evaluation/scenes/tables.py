@@ -266,13 +266,20 @@ def forecast_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
             if not m.any():
                 continue
             row: dict[str, Any] = {"group": label, "horizon": h, "forecasts": int(m.sum())}
-            for method in METHODS:
-                for component in COMPONENTS:
-                    values = SCALE[component] * cols[f"{method}_{component}"][m]
-                    for stat, f in STATS.items():
-                        row[f"{method}_{component}_{stat}"] = f(values)
-            rows.append(row)
+            rows.append(row | error_stats(cols, m, METHODS))
     return rows
+
+
+def error_stats(cols: Columns, mask: np.ndarray, methods: tuple[str, ...]) -> dict[str, float]:
+    """Each of ``methods``' median, mean and 90th percentile of each component's error over the
+    rows ``mask`` picks (cm or degrees), keyed ``method_component_stat``."""
+    out = {}
+    for method in methods:
+        for component in COMPONENTS:
+            values = SCALE[component] * cols[f"{method}_{component}"][mask]
+            for stat, f in STATS.items():
+                out[f"{method}_{component}_{stat}"] = f(values)
+    return out
 
 
 def covered(cols: Columns, axis: str, mask: np.ndarray) -> float:
@@ -346,8 +353,8 @@ def identity_table(cols: Columns, axis: str | None) -> list[dict[str, Any]]:
 
 def unseen_table(cols: Columns) -> list[dict[str, Any]]:
     """Per band of time unseen, then over all: the unseen tracks' reported poses and their last
-    estimates held, against the truth (median and mean per component), and the share whose person
-    was in view."""
+    estimates held, against the truth (:func:`error_stats`), and the share whose person was in
+    view."""
     rows: list[dict[str, Any]] = []
     if not cols:
         return rows
@@ -357,12 +364,7 @@ def unseen_table(cols: Columns) -> list[dict[str, Any]]:
             "n": int(mask.sum()),
             "in_view": float(np.mean(cols["in_view"][mask])),
         }
-        for method in ("forecast", "hold"):
-            for component in COMPONENTS:
-                values = cols[f"{method}_{component}"][mask]
-                for stat in ("median", "mean"):
-                    row[f"{method}_{component}_{stat}"] = STATS[stat](values)
-        rows.append(row)
+        rows.append(row | error_stats(cols, mask, ("forecast", "hold")))
     return rows
 
 
