@@ -14,7 +14,7 @@ from typing import IO, Any
 
 import numpy as np
 
-from ._core import body_frame
+from ._core import InvalidArgumentError, NonFiniteError, body_frame
 from .pipeline import FrameResult
 from .sources import SkippedFrame
 
@@ -100,11 +100,12 @@ def record(result: FrameResult, horizons: Sequence[float]) -> dict[str, Any]:
 
 
 def _body_frame(track_id: int, pose: np.ndarray) -> dict[str, Any] | None:
-    """The REP-155 body frame ``body_<id>`` of a pose; None for a forecast whose elevation has
-    left 0 to π (no upright direction to take the frame's roll from)."""
-    if not 0.0 <= pose[4] <= math.pi:
+    """The REP-155 body frame ``body_<id>`` of a pose; None for one the core refuses (a forecast
+    whose elevation has left 0 to π: no upright direction to take the frame's roll from)."""
+    try:
+        translation, rotation = body_frame(pose)
+    except (InvalidArgumentError, NonFiniteError):
         return None
-    translation, rotation = body_frame(pose)
     return {
         "child_frame_id": f"body_{track_id}",
         "translation": _clean(translation),
