@@ -178,6 +178,7 @@ def test_a_frame_stamped_an_hour_ahead_costs_one_restart_not_the_following_hour(
 def test_a_walker_unseen_for_a_second_is_reported_where_the_walk_went_on(walk, tmp_path):
     import dataclasses
 
+    from torsocast import InvalidArgumentError
     from torsocast.keypoints import open_model
     from torsocast.pipeline import Pipeline
     from torsocast.run import run
@@ -195,6 +196,10 @@ def test_a_walker_unseen_for_a_second_is_reported_where_the_walk_went_on(walk, t
         if len(results) == 15:  # the track's intervals by id are those its outcome gave
             by_id = pipeline.tracker.intervals(1, list(pipeline.horizons))
             np.testing.assert_array_equal(by_id, results[-1].intervals[0])
+            # A horizon that is no time ahead is refused by name, and nothing changes.
+            with pytest.raises(InvalidArgumentError, match="horizons"):
+                pipeline.tracker.intervals(1, [-0.4])
+            np.testing.assert_array_equal(pipeline.tracker.intervals(1, list(pipeline.horizons)), by_id)
     assert all(not r.unseen for r in results[:15]) and pipeline.tracker.intervals(7, [0.4]) is None
     for k in gap:
         (track,) = results[k].unseen
