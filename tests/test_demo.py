@@ -292,6 +292,52 @@ def test_the_top_down_plot_draws_a_walk_along_its_world_axis(axis):
     assert (width, height)[axis] > 120 and (width, height)[1 - axis] < 40
 
 
+def _unseen_frame(pose, half_width80, time=1.0):
+    """A frame of an empty room from a level camera 1 m up, in which track 3 went unseen since
+    0.4 s and is forecast at ``pose``."""
+    from torsocast.keypoints.model import Detections
+    from torsocast.pipeline import FrameResult, UnseenTrack
+    from torsocast.sources.frame import Frame
+
+    camera = Camera(Intrinsics(500.0, 500.0, 320.0, 240.0), level_camera(1.0))
+    frame = Frame(0, time, np.zeros((480, 640, 3), np.uint8), None, camera)
+    nobody = Detections(np.zeros((0, 17, 3)), np.zeros((0, 4)), np.zeros(0))
+    track = UnseenTrack(3, time - 0.4, np.asarray(pose, float), np.asarray(half_width80, float))
+    return FrameResult(frame, nobody, None, [], {}, unseen=[track])
+
+
+def test_an_unseen_track_is_drawn_as_a_ring_as_wide_as_its_centre_interval():
+    from torsocast.overlay import COLOURS, draw
+
+    # 4 m ahead at the camera's height, the interval 0.3 m by 0.4 m: a ring of 500 * 0.5 / 4 px
+    # round the image's centre.
+    image = np.asarray(draw(_unseen_frame([4.0, 0.0, 1.0, np.pi, np.pi / 2], [0.3, 0.4, 0.1, 0.2, 0.1])))
+    rows, cols = np.nonzero((image == COLOURS[3]).all(axis=2))
+    radius = np.hypot(cols - 320.0, rows - 240.0)
+    ring = np.abs(radius - 62.5) < 2.5
+    sectors = np.unique((np.degrees(np.arctan2(rows - 240.0, cols - 320.0)[ring]) // 30).astype(int) % 12)
+    assert len(sectors) == 12  # the whole ring
+    assert not np.any((radius > 10) & (radius < 55))  # and nothing inside it but the heading
+
+    # Behind the camera, or outside the picture: nothing drawn.
+    for pose in ([-4.0, 0.0, 1.0, 0.0, np.pi / 2], [4.0, 6.0, 1.0, 0.0, np.pi / 2]):
+        assert not np.asarray(draw(_unseen_frame(pose, [0.3, 0.4, 0.1, 0.2, 0.1]))).any()
+
+
+def test_the_top_down_plot_draws_where_an_unseen_track_was_put():
+    from torsocast.overlay import COLOURS
+    from torsocast.topdown import TopDown, TrackHistory
+
+    seen = np.array([0.0, 0.0, 1.0, 0.0, np.pi / 2])
+    plot = TopDown(tracks={3: TrackHistory([0.6], [seen])})
+    plot(_unseen_frame([3.0, 0.0, 1.0, 0.0, np.pi / 2], [0.3, 0.4, 0.1, 0.2, 0.1]))
+    assert [t for t, _ in plot.tracks[3].unseen] == [1.0]
+    image = np.asarray(plot.draw(size=200))
+    rows, cols = np.nonzero((image == COLOURS[3]).all(axis=2))
+    # The plot spans x from the camera at 0 to the unseen point at 3 m: that point is drawn there.
+    assert cols.max() > 155
+
+
 def test_a_frame_whose_model_scores_are_not_probabilities_is_left_out(walk, tmp_path, capsys):
     from torsocast.keypoints import open_model
     from torsocast.pipeline import BadFrameError, Pipeline

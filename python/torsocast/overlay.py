@@ -1,13 +1,14 @@
 """Pictures of a frame's result: keypoints and skeleton, the torso normal as an arrow from the
 torso centre, and the forecast heading at the last horizon (a thin white line from the forecast
-centre), drawn on the colour image."""
+centre), drawn on the colour image. A confirmed track the frame did not show is drawn where its
+forecast puts the person: a ring as wide as the centre's 80 % interval, with its heading."""
 
 from __future__ import annotations
 
 import numpy as np
 from PIL import Image, ImageDraw
 
-from .pipeline import FrameResult
+from .pipeline import FrameResult, UnseenTrack
 from .tracker import PersonConfig
 
 #: Skeleton edges between COCO keypoints.
@@ -77,4 +78,29 @@ def draw(result: FrameResult, min_score: float | None = None) -> Image.Image:
         pen.text(
             (start[0] + 6, start[1] + 6), f"{label}{np.degrees(obs.pose[3]):.0f}° {obs.estimate}", fill=colour
         )
+    if camera is not None:
+        for track in result.unseen:
+            _unseen(pen, camera, track, result.frame.time, image.size)
     return image
+
+
+def _unseen(pen: ImageDraw.ImageDraw, camera, track: UnseenTrack, t: float, size: tuple[int, int]) -> None:  # type: ignore[no-untyped-def]
+    """A ring round where ``track``'s forecast puts its person, as wide as the 80 % interval of the
+    centre's horizontal position (a small ring while the track has none); nothing where that point
+    lies behind the camera or outside the picture."""
+    if track.pose is None:
+        return
+    centre = track.pose[:3]
+    depth = float(camera.to_optical(centre)[2])
+    if depth <= 0.0:
+        return
+    u, v = _projector(camera)(centre)
+    if not (0.0 <= u < size[0] and 0.0 <= v < size[1]):
+        return
+    colour = COLOURS[track.id % len(COLOURS)]
+    spread = 0.0 if track.half_width80 is None else float(np.hypot(*track.half_width80[:2]))
+    radius = max(camera.intrinsics.fx * spread / depth, 6.0)
+    pen.ellipse([u - radius, v - radius, u + radius, v + radius], outline=colour, width=2)
+    tip = _projector(camera)(centre + ARROW * _heading(track.pose[3], track.pose[4]))
+    pen.line([(u, v), tip], fill=colour, width=2)
+    pen.text((u + 6, v + 6), f"#{track.id} unseen {max(t - track.last_time, 0.0):.1f} s", fill=colour)

@@ -1,6 +1,7 @@
-"""A top-down plot of the tracks: where each person walked, which way the torso faced, and where
-the forecaster says they will be (world x to the right, y up, 1 m grid, the camera and its field
-of view). Drawn with Pillow, so it needs nothing beyond the package's own dependencies."""
+"""A top-down plot of the tracks: where each person walked, which way the torso faced, where the
+forecaster says they will be, and where it put them while unseen (world x to the right, y up, 1 m
+grid, the camera and its field of view). Drawn with Pillow, so it needs nothing beyond the
+package's own dependencies."""
 
 from __future__ import annotations
 
@@ -37,6 +38,9 @@ class TrackHistory:
     poses: list[F64] = field(default_factory=list)
     forecasts: list[tuple[float, F64]] = field(default_factory=list)
     """(time made, ``(horizons, 5)``) of every frame that had one."""
+    unseen: list[tuple[float, F64]] = field(default_factory=list)
+    """(frame time, ``(5,)``) where the track's forecast put its person in each frame that did
+    not show them."""
 
 
 @dataclass
@@ -59,14 +63,19 @@ class TopDown:
             history.poses.append(obs.pose)
             if i in result.forecasts:
                 history.forecasts.append((result.frame.time, result.forecasts[i]))
+        for track in result.unseen:
+            if track.id in self.tracks and track.pose is not None:
+                self.tracks[track.id].unseen.append((result.frame.time, track.pose))
 
     def draw(self, size: int = 480, truth: F64 | None = None, every: float = 0.5) -> Image.Image:
         """The plot, ``size`` pixels square. Headings are drawn every ``every`` seconds; the last
         forecast of each track is drawn in full (a dashed line to each horizon, with its heading),
-        earlier ones as a faint dot at the last horizon. ``truth (n, 2+)`` is drawn as a grey
+        earlier ones as a faint dot at the last horizon; where a track put its person while unseen,
+        as rings. ``truth (n, 2+)`` is drawn as a grey
         path underneath (for data with ground truth, like the demo)."""
         paths = [np.array(h.poses)[:, :2] for h in self.tracks.values() if h.poses]
         paths += [f[-1:, :2] for h in self.tracks.values() for _, f in h.forecasts[-1:]]
+        paths += [np.array([p for _, p in h.unseen])[:, :2] for h in self.tracks.values() if h.unseen]
         if truth is not None:
             paths.append(np.asarray(truth)[:, :2])
         if self.camera is not None:
@@ -119,6 +128,9 @@ class TopDown:
                 pen.ellipse([u - 2, v - 2, u + 2, v + 2], fill=faint)
                 next_dot = made + every
         pen.line([px(p) for p in poses[:, :2]], fill=colour, width=2)
+        for _, pose in h.unseen:
+            u, v = px(pose[:2])
+            pen.ellipse([u - 4, v - 4, u + 4, v + 4], outline=colour, width=1)
         next_arrow = h.times[0]
         for t, pose in zip(h.times, poses):
             if t >= next_arrow:
