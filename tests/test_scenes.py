@@ -976,6 +976,41 @@ def test_two_runs_compare_their_interval_cells(tmp_path, capsys):
     assert "Forecast interval cells" not in capsys.readouterr().out
 
 
+def test_two_runs_compare_their_unseen_tracks_by_time_unseen(tmp_path, capsys):
+    # Ten scenes; in each, a track kept unseen for 0.2 s and for 1.5 s (and two more in a scene
+    # whose people the recovery records never held in view). The second run reports the longer
+    # unseen ones 10 cm further off than the first run: a change beyond any draw of scenes, in
+    # that band and over all.
+    rng = np.random.default_rng(4)
+    recovery = [",".join(COMPARED_HEAD)]
+    recovery += [",".join(str(v) for v in compared_row(f"s{k}", 0.0, [0.1] * 6)) for k in range(10)]
+    errors = [f"{m}_{c}" for m in ("forecast", "hold") for c in ("centre", "azimuth", "elevation")]
+    runs: dict[str, list[str]] = {"a": [",".join(["scene", "unseen_for", *errors])]}
+    runs["b"] = [*runs["a"]]
+    for scene in [*(f"s{k}" for k in range(10)), "hidden"]:
+        for unseen_for in (0.2, 1.5):
+            centre = rng.uniform(0.1, 0.3)
+            for name, extra in (("a", 0.0), ("b", 0.1 if unseen_for >= 1.0 else 0.0)):
+                runs[name].append(f"{scene},{unseen_for},{centre + extra},0.2,0.05,0.3,0.2,0.05")
+    for name, lines in runs.items():
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "recovery.csv").write_text("\n".join(recovery) + "\n")
+        (tmp_path / name / "unseen.csv").write_text("\n".join(lines) + "\n")
+    assert main(["eval", "compare", str(tmp_path / "a"), str(tmp_path / "b")]) == 0
+    out = capsys.readouterr().out
+    assert "| under 0.4 s | centre | 11 / 11 | 30.0 / 30.0 |" in out
+    assert "| 1 s and more | centre | 11 / 11 |" in out and "| +10.0 | +10.0 to +10.0 | worse |" in out
+    assert "| under 0.4 s | azimuth |" in out and out.count("| worse |") == 2  # the band and all
+    # A run without the record (code that did not report unseen tracks), or with none kept
+    # unseen (a record with no header), compares without the table.
+    (tmp_path / "b" / "unseen.csv").write_text("\r\n")
+    assert main(["eval", "compare", str(tmp_path / "a"), str(tmp_path / "b")]) == 0
+    assert "time unseen" not in capsys.readouterr().out
+    (tmp_path / "b" / "unseen.csv").unlink()
+    assert main(["eval", "compare", str(tmp_path / "a"), str(tmp_path / "b")]) == 0
+    assert "time unseen" not in capsys.readouterr().out
+
+
 def recover(spec, motion, model):
     """Per frame after the first: (centre error along x, y, z in m; azimuth, elevation error in deg)."""
     scene = RenderedScene(spec, {motion.name: motion})

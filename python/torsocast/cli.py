@@ -195,12 +195,15 @@ def _eval_compare(args: argparse.Namespace) -> int:
         compare,
         compare_coverage,
         compare_forecasts,
+        compare_unseen,
         coverage_markdown,
         forecasts_markdown,
         markdown,
         pool,
         read,
         read_forecasts,
+        read_unseen,
+        unseen_markdown,
         within,
     )
 
@@ -219,6 +222,12 @@ def _eval_compare(args: argparse.Namespace) -> int:
             found = [[within(f, scenes) for f in side] for side in found]
         cells = compare_forecasts(pool(found[0]), pool(found[1]), scenes) if whole else None
         coverage = compare_coverage(list(zip(found[0], found[1]))) if whole else None
+        # So are the tracks kept unseen.
+        kept = [[u for pair in pairs if (u := read_unseen(pair[k])) is not None] for k in (0, 1)]
+        if args.common:
+            kept = [[within(u, scenes) for u in side] for side in kept]
+        every = all(len(side) == len(pairs) for side in kept)
+        unseen = compare_unseen(pool(kept[0]), pool(kept[1]), scenes) if every else None
     except (OSError, ValueError, KeyError) as e:
         print(f"torsocast eval compare: {e}", file=sys.stderr)
         return 2
@@ -227,6 +236,8 @@ def _eval_compare(args: argparse.Namespace) -> int:
         print("\n" + forecasts_markdown(cells))
     if coverage is not None:
         print("\n" + coverage_markdown(coverage))
+    if unseen:
+        print("\n" + unseen_markdown(unseen))
     return 0
 
 

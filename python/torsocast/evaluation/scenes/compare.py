@@ -7,7 +7,9 @@ difference of their flip rates move? ``torsocast eval compare BEFORE AFTER`` rea
 ``recovery.csv`` of each run's output folder, and where both have one their ``forecasts.csv``:
 the change of each motion category's and view bin's median forecast error per component and
 horizon, with its interval over the same draws, and where both recorded their forecast
-intervals, how many motion category cells each run's intervals hold calibrated. Pairs of runs on
+intervals, how many motion category cells each run's intervals hold calibrated; and where both
+have an ``unseen.csv``, the change of the median error of the poses reported for tracks kept
+unseen, by how long they went unseen. Pairs of runs on
 other scenes (another ``--seed``) can be pooled with the first (``--also BEFORE AFTER``): the
 draws then take scenes from all of them. A replay with sensor faults scores fewer frames than
 one without; ``--common`` compares each pair on the person-frames both runs hold
@@ -124,6 +126,26 @@ def read_forecasts(folder: str | Path) -> Columns | None:
     cols = {k: np.array([r[k] for r in rows]) for k in FORECAST_COLUMNS[:2]}
     numbers = [*FORECAST_COLUMNS[2:], *(k for k in INTERVAL_COLUMNS if k in rows[0])]
     for k in numbers:
+        cols[k] = np.array([float(r[k]) for r in rows])
+    return cols
+
+
+#: The columns of ``unseen.csv`` a comparison reads: the scene, then numbers.
+UNSEEN_COLUMNS = ("scene", "unseen_for", *(f"{m}_{c}" for m in ("forecast", "hold") for c in COMPONENTS))
+
+
+def read_unseen(folder: str | Path) -> Columns | None:
+    """A run's ``unseen.csv`` (the tracks kept unseen, each frame) as columns, empty where no
+    track went unseen; None without one (a run of code that did not report them)."""
+    path = Path(folder) / "unseen.csv"
+    if not path.is_file():
+        return None
+    with path.open(newline="") as f:
+        if not next(csv.reader(f), None):  # no header: the run had no unseen track to write
+            return {k: np.array([], dtype=float if k != "scene" else str) for k in UNSEEN_COLUMNS}
+    rows = _records(path, UNSEEN_COLUMNS)
+    cols = {"scene": np.array([r["scene"] for r in rows])}
+    for k in UNSEEN_COLUMNS[1:]:
         cols[k] = np.array([float(r[k]) for r in rows])
     return cols
 
@@ -265,23 +287,58 @@ def changed_people(
     ]
 
 
-def compare_forecasts(before: Columns, after: Columns, scenes: np.ndarray) -> list[dict[str, Any]]:
-    """Per motion category and per view bin (the axes the report checks against holding still),
-    component and horizon: both runs' median forecast error (in the report's units), the change,
-    its paired interval over draws of the scenes (the same draws for both runs, each weighing its
-    own forecasts of a drawn scene) and each run's median error of holding its own estimate still
-    (``hold``, ``hold_after``). A change to the forecaster alone leaves the forecasts' instants
-    as they were; a change to the tracking may add or drop some, which the draws take as they
-    come, down to every forecast of a scene (a track that is no longer confirmed). The draws are
-    of ``scenes`` (the runs' recovery records'); a forecast of a scene not among them is
-    refused."""
+def _scene_indices(
+    runs: tuple[Columns, Columns], scenes: np.ndarray, what: str
+) -> tuple[np.ndarray, list[np.ndarray]]:
+    """The scenes the draws are of (``scenes``, the runs' recovery records'), and each run's rows'
+    index among them; a row of a scene not among them is refused."""
     names = np.unique(scenes)
-    stray = sorted((set(before["scene"]) | set(after["scene"])) - set(names))
+    stray = sorted((set(runs[0]["scene"]) | set(runs[1]["scene"])) - set(names))
     if stray:
         raise ValueError(
-            f"the runs' forecasts are of scenes their recovery records do not hold: {', '.join(stray[:3])}"
+            f"the runs' {what} are of scenes their recovery records do not hold: {', '.join(stray[:3])}"
         )
-    indices = [np.searchsorted(names, cols["scene"]) for cols in (before, after)]
+    return names, [np.searchsorted(names, cols["scene"]) for cols in runs]
+
+
+def _median_change(
+    runs: tuple[Columns, Columns],
+    masks: list[np.ndarray],
+    indices: list[np.ndarray],
+    scenes: int,
+    component: str,
+) -> dict[str, float]:
+    """Both runs' median error of ``component`` (in the report's units) over the rows ``masks``
+    pick, the change, its paired interval over draws of the scenes (the same draws for both runs,
+    each weighing its own rows of a drawn scene), and each run's median error of holding its own
+    estimate still (``hold``, ``hold_after``)."""
+    values, draws, holds = [], [], []
+    for cols, index, m in zip(runs, indices, masks):
+        error = SCALE[component] * cols[f"forecast_{component}"][m]
+        values.append(float(np.median(error)))
+        draws.append(scene_percentile_draws(index[m], scenes, error, 50.0))
+        holds.append(float(np.median(SCALE[component] * cols[f"hold_{component}"][m])))
+    low, high = central(draws[1] - draws[0])
+    return {
+        "before": values[0],
+        "after": values[1],
+        "change": values[1] - values[0],
+        "low": low,
+        "high": high,
+        "hold": holds[0],
+        "hold_after": holds[1],
+    }
+
+
+def compare_forecasts(before: Columns, after: Columns, scenes: np.ndarray) -> list[dict[str, Any]]:
+    """Per motion category and per view bin (the axes the report checks against holding still),
+    component and horizon: both runs' median forecast error and holding's, the change and its
+    paired interval (:func:`_median_change`). A change to the forecaster alone leaves the
+    forecasts' instants as they were; a change to the tracking may add or drop some, which the
+    draws take as they come, down to every forecast of a scene (a track that is no longer
+    confirmed). The draws are of ``scenes`` (the runs' recovery records'); a forecast of a scene
+    not among them is refused."""
+    names, indices = _scene_indices((before, after), scenes, "forecasts")
     out = []
     for axis in CHECKED_AXES:
         masks_after = dict(groups(after, axis))
@@ -295,32 +352,65 @@ def compare_forecasts(before: Columns, after: Columns, scenes: np.ndarray) -> li
                 if not all(m.any() for m in masks):
                     continue
                 for component in COMPONENTS:
-                    values, draws = [], []
-                    for cols, index, m in zip((before, after), indices, masks):
-                        error = SCALE[component] * cols[f"forecast_{component}"][m]
-                        values.append(float(np.median(error)))
-                        draws.append(scene_percentile_draws(index[m], len(names), error, 50.0))
-                    low, high = central(draws[1] - draws[0])
-                    holds = [
-                        float(np.median(SCALE[component] * cols[f"hold_{component}"][m]))
-                        for cols, m in zip((before, after), masks)
-                    ]
-                    out.append(
-                        {
-                            "axis": axis,
-                            "group": group,
-                            "component": component,
-                            "horizon": float(horizon),
-                            "before": values[0],
-                            "after": values[1],
-                            "change": values[1] - values[0],
-                            "low": low,
-                            "high": high,
-                            "hold": holds[0],
-                            "hold_after": holds[1],
-                        }
-                    )
+                    change = _median_change((before, after), masks, indices, len(names), component)
+                    cell = {"axis": axis, "group": group, "component": component, "horizon": float(horizon)}
+                    out.append(cell | change)
     return out
+
+
+def compare_unseen(before: Columns, after: Columns, scenes: np.ndarray) -> list[dict[str, Any]]:
+    """Per band of time unseen, then over all, and per component: both runs' median error of the
+    poses reported for tracks kept unseen, and of holding each track's last estimate, the change
+    and its paired interval (:func:`_median_change`), with each run's count of track-frames
+    (``n``, ``n_after``). Each run's tracking decides which tracks go unseen when, so the two
+    runs' track-frames need not be the same ones. The draws are of ``scenes`` and of any other
+    scene a run kept a track unseen in (one whose people the recovery records never held in view:
+    out of the picture or hidden throughout)."""
+    every = np.concatenate([scenes, before["scene"], after["scene"]])
+    names, indices = _scene_indices((before, after), every, "unseen tracks")
+    out = []
+    for axis in ("unseen", None):
+        masks_after = dict(groups(after, axis))
+        for group, in_before in groups(before, axis):
+            masks = [in_before, masks_after.get(group, np.zeros(len(after["scene"]), bool))]
+            if not all(m.any() for m in masks):
+                continue
+            for component in COMPONENTS:
+                change = _median_change((before, after), masks, indices, len(names), component)
+                cell = {
+                    "group": group,
+                    "component": component,
+                    "n": int(masks[0].sum()),
+                    "n_after": int(masks[1].sum()),
+                }
+                out.append(cell | change)
+    return out
+
+
+def unseen_markdown(cells: list[dict[str, Any]]) -> str:
+    """The unseen tracks' comparison as a Markdown table (holding still: each run's own), each
+    change beyond the draw marked."""
+    head = "| time unseen | component | track-frames before / after | hold before / after | before | after |"
+    lines = [
+        f"{head} change | its {100 * INTERVAL:g} % interval | beyond the draw |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---|",
+    ]
+    for c in cells:
+        change, low, high = (f"{c[k]:+.1f}" for k in ("change", "low", "high"))
+        lines.append(
+            f"| {c['group']} | {c['component']} | {c['n']} / {c['n_after']} "
+            f"| {c['hold']:.1f} / {c['hold_after']:.1f} | {c['before']:.1f} | {c['after']:.1f} "
+            f"| {change} | {low} to {high} | {_verdict(c)} |"
+        )
+    return (
+        "\n".join(lines)
+        + "\n\nMedian errors of the poses reported for tracks kept unseen (centre cm, angles deg)."
+    )
+
+
+def _verdict(cell: dict[str, Any]) -> str:
+    """Whether a change lies beyond the draw of scenes, and which way."""
+    return "better" if cell["high"] < 0 else "worse" if cell["low"] > 0 else ""
 
 
 def forecasts_markdown(cells: list[dict[str, Any]]) -> str:
@@ -333,7 +423,7 @@ def forecasts_markdown(cells: list[dict[str, Any]]) -> str:
         f"{head} its {100 * INTERVAL:g} % interval | beyond the draw |",
         "|---|---|---:|---:|---:|---:|---:|---:|---|",
     ]
-    verdicts = ["better" if c["high"] < 0 else "worse" if c["low"] > 0 else "" for c in cells]
+    verdicts = [_verdict(c) for c in cells]
     for c, verdict in zip(cells, verdicts):
         numbers = (f"{c[k]:.1f}" for k in ("hold", "before", "after"))
         change, low, high = (f"{c[k]:+.1f}" for k in ("change", "low", "high"))
