@@ -244,7 +244,7 @@ def _eval_compare(args: argparse.Namespace) -> int:
 def _run(args: argparse.Namespace) -> int:
     from .keypoints import open_model
     from .run import run
-    from .sources import open_source
+    from .sources import BagTopics, open_source
 
     horizons = _horizons(args.horizons)
     if horizons is None:
@@ -255,7 +255,8 @@ def _run(args: argparse.Namespace) -> int:
     if _out_folder(args.out) is None:
         return 2
     try:
-        source = open_source(args.source, fps=args.fps)
+        topics = BagTopics(args.color_topic, args.depth_topic, args.info_topic, args.world_frame)
+        source = open_source(args.source, fps=args.fps, bag=topics)
         model = open_model(args.model, args.family, args.device)
     except (FileNotFoundError, ValueError, ImportError, RuntimeError) as e:
         print(f"torsocast run: {e}", file=sys.stderr)
@@ -357,7 +358,9 @@ def main(argv: list[str] | None = None) -> int:
     dm.add_argument("--video", action="store_true", help="also write those pictures as overlay.avi")
     dm.set_defaults(run=_demo)
     rn = sub.add_parser("run", help="track and forecast every person in an RGB-D source")
-    rn.add_argument("source", help="folder (TUM or NNNN_camera.xml layout), .npz recording, or video")
+    rn.add_argument(
+        "source", help="folder (TUM or NNNN_camera.xml layout), .npz recording, ROS bag, or video"
+    )
     rn.add_argument("--model", help="ONNX keypoint model (default: the bundled MoveNet Lightning)")
     rn.add_argument("--family", choices=["yolo-pose", "movenet"], help="model family (default: recognised)")
     rn.add_argument("--device", default="cpu", choices=["cpu", "cuda"])
@@ -367,6 +370,13 @@ def main(argv: list[str] | None = None) -> int:
     rn.add_argument("--overlay", action="store_true", help="also draw every frame's result as a JPEG")
     rn.add_argument("--video", action="store_true", help="also write those pictures as overlay.avi (MJPEG)")
     rn.add_argument("--plot", action="store_true", help="also draw the tracks from above (topdown.png)")
+    bag = rn.add_argument_group("ROS bags", "needed only where the bag has more than one candidate")
+    bag.add_argument("--color-topic", help="colour images (sensor_msgs/Image or CompressedImage)")
+    bag.add_argument("--depth-topic", help="depth images registered to the colour images (16UC1 mm, 32FC1 m)")
+    bag.add_argument("--info-topic", help="the colour camera's sensor_msgs/CameraInfo")
+    bag.add_argument(
+        "--world-frame", help="fixed frame to place the camera in (default: odom, else the tf root)"
+    )
     rn.set_defaults(run=_run)
     bench = sub.add_parser("bench", help="measure forecast latency of every forecaster on this machine")
     bench.add_argument("--windows", type=int, default=2000, help="windows in the batch timing")

@@ -21,7 +21,7 @@ import numpy as np
 from PIL import Image
 
 from ..camera import Camera, Intrinsics, level_camera
-from .frame import READ_ERRORS, Frame, SkippedFrame, check_increasing, depth_in_metres
+from .frame import PAIRING_TOLERANCE, READ_ERRORS, Frame, SkippedFrame, check_increasing, depth_in_metres
 
 #: TUM's depth PNGs hold 5000 units per metre.
 TUM_DEPTH_SCALE = 1.0 / 5000.0
@@ -135,7 +135,7 @@ class TumFolder:
         root: str | Path,
         intrinsics: Intrinsics = TUM_DEFAULT,
         camera_to_world: np.ndarray | None = None,
-        max_difference: float = 0.02,
+        max_difference: float = PAIRING_TOLERANCE,
     ) -> None:
         self.root = Path(root)
         self.name = str(self.root)

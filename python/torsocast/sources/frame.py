@@ -41,6 +41,10 @@ class SkippedFrame:
     reason: str
 
 
+#: Seconds: the furthest in time a depth image may lie from the colour image it is paired with.
+PAIRING_TOLERANCE = 0.02
+
+
 #: What reading one frame's files can raise: missing or unreadable files, images that are not
 #: images or too large to decode, broken XML, numbers that do not parse.
 READ_ERRORS = (OSError, ValueError, SyntaxError, EOFError, Image.DecompressionBombError)

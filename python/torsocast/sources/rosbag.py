@@ -1,0 +1,287 @@
+"""ROS bags (ROS 2 bag folders and ROS 1 ``.bag`` files), read with the ``rosbags`` package
+(``pip install 'torsocast[ros]'``; no ROS installation needed).
+
+What a robot records: a colour image topic (``sensor_msgs/Image`` in rgb8, bgr8, rgba8, bgra8 or
+mono8, or ``sensor_msgs/CompressedImage`` in JPEG or PNG), a depth image topic registered to it
+(``sensor_msgs/Image`` in 16UC1 millimetres or 32FC1 metres, as a RealSense's
+``aligned_depth_to_color`` or a Kinect's registered depth), the colour camera's
+``sensor_msgs/CameraInfo`` and the transforms (``/tf``, ``/tf_static``). Each colour image
+becomes a frame at its header's stamp, with the depth image nearest in time (within
+:data:`~.frame.PAIRING_TOLERANCE`; none nearer: a colour-only frame) and the camera's pose in the
+world frame at that stamp, looked up from the image's ``frame_id`` (the camera's optical frame,
+by ROS convention) through the transforms. The world frame is the one named, else ``odom``
+where the transforms have it (REP-105's frame that moves smoothly with the robot), else the
+root of the camera's tree. A bag without transforms gives the camera level at the origin
+(:func:`~torsocast.camera.level_camera`), like the other sources. A topic is found by its type
+where the bag has one candidate; where it has several, it must be named.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Iterator
+from dataclasses import dataclass
+from io import BytesIO
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+from PIL import Image as PILImage
+
+from ..camera import Camera, Intrinsics, level_camera
+from .frame import PAIRING_TOLERANCE, READ_ERRORS, Frame, SkippedFrame
+from .transforms import TransformLookupError, TransformTree
+
+IMAGE, COMPRESSED = "sensor_msgs/msg/Image", "sensor_msgs/msg/CompressedImage"
+CAMERA_INFO, TF = "sensor_msgs/msg/CameraInfo", "tf2_msgs/msg/TFMessage"
+COLOUR_ENCODINGS = ("rgb8", "bgr8", "rgba8", "bgra8", "mono8")
+#: Depth encodings and their metres per unit.
+DEPTH_ENCODINGS = {"16UC1": 0.001, "mono16": 0.001, "32FC1": 1.0}
+#: How many colour images wait, at most, for a depth image stamped at or after them before the
+#: oldest is paired with the nearest one so far: a bag's messages come in the order they were
+#: received, not stamped. Also how many depth images are kept to pair with.
+LOOKAHEAD = 8
+
+
+def _reader(path: Path) -> tuple[Any, type[Exception]]:
+    """A reader of the bag at ``path``, and the error its messages raise when they do not decode."""
+    try:
+        from rosbags.highlevel import AnyReader, AnyReaderError
+        from rosbags.typesys import Stores, get_typestore
+    except ImportError as e:
+        raise ImportError(
+            f"{path}: reading ROS bags needs the rosbags package (pip install 'torsocast[ros]')"
+        ) from e
+    try:
+        # ROS 2 bags of Humble and before carry no message definitions: read them with Humble's.
+        return AnyReader([path], default_typestore=get_typestore(Stores.ROS2_HUMBLE)), AnyReaderError
+    except AnyReaderError as e:
+        raise ValueError(f"{path}: not a readable ROS bag ({e})") from e
+
+
+def stamp(message: Any) -> float:
+    """A message's header stamp in seconds."""
+    t = message.header.stamp
+    return float(t.sec) + 1e-9 * float(t.nanosec)
+
+
+def colour_image(message: Any) -> npt.NDArray[np.uint8]:
+    """An ``(h, w, 3)`` RGB image from a colour Image or CompressedImage message."""
+    if message.__msgtype__ == COMPRESSED:
+        with PILImage.open(BytesIO(bytes(message.data))) as image:
+            return np.asarray(image.convert("RGB"))
+    if message.encoding not in COLOUR_ENCODINGS:
+        raise ValueError(f"colour encoding {message.encoding!r} is not one of {', '.join(COLOUR_ENCODINGS)}")
+    channels = {"mono8": 1, "rgb8": 3, "bgr8": 3}.get(message.encoding, 4)
+    pixels = _rows(message, np.dtype(np.uint8), channels)
+    if message.encoding == "mono8":
+        return np.repeat(pixels, 3, axis=2)
+    rgb = pixels[..., :3]
+    return np.ascontiguousarray(rgb[..., ::-1] if message.encoding.startswith("bgr") else rgb)
+
+
+def depth_image(message: Any) -> npt.NDArray[np.float32]:
+    """An ``(h, w)`` depth image in metres, 0 where there is no reading, from a depth Image message."""
+    if message.__msgtype__ != IMAGE or message.encoding not in DEPTH_ENCODINGS:
+        got = message.encoding if message.__msgtype__ == IMAGE else message.format
+        raise ValueError(f"depth encoding {got!r} is not one of {', '.join(DEPTH_ENCODINGS)}")
+    dtype = np.dtype(np.float32 if message.encoding == "32FC1" else np.uint16)
+    raw = _rows(message, dtype.newbyteorder(">" if message.is_bigendian else "<"), 1)[..., 0]
+    depth = raw.astype(np.float32) * np.float32(DEPTH_ENCODINGS[message.encoding])
+    depth[~np.isfinite(depth) | (depth < 0)] = 0.0
+    return depth
+
+
+def _rows(message: Any, dtype: np.dtype, channels: int) -> npt.NDArray[Any]:  # type: ignore[type-arg]
+    """The pixels of an Image message, ``(h, w, channels)``, its rows' padding (``step``) dropped."""
+    h, w, step = int(message.height), int(message.width), int(message.step)
+    row = w * channels * dtype.itemsize
+    data = np.asarray(message.data, dtype=np.uint8)
+    if step < row or len(data) < h * step:
+        raise ValueError(f"image data of {len(data)} bytes does not hold {h} rows of {row} (step {step})")
+    rows = data[: h * step].reshape(h, step)[:, :row]
+    return np.ascontiguousarray(rows).view(dtype).reshape(h, w, channels)
+
+
+def intrinsics(message: Any) -> Intrinsics:
+    """The pinhole intrinsics and Brown-Conrady distortion of a CameraInfo message."""
+    k = np.asarray(getattr(message, "k", getattr(message, "K", None)), dtype=np.float64)
+    d = [float(v) for v in getattr(message, "d", getattr(message, "D", []))]
+    model = message.distortion_model
+    if model not in ("plumb_bob", "rational_polynomial", "") or any(d[5:]):
+        raise ValueError(
+            f"camera info: distortion model {model!r} with {len(d)} coefficients; expected plumb_bob's "
+            "k1, k2, p1, p2, k3 (or rational_polynomial's with k4 to k6 zero)"
+        )
+    return Intrinsics(k[0], k[4], k[2], k[5], tuple(d[:5]) if any(d) else ())
+
+
+@dataclass(frozen=True)
+class BagTopics:
+    """What to read from a bag, where its own types leave a choice: the topics (each needed only
+    where the bag has more than one candidate) and the fixed frame the camera is placed in."""
+
+    color_topic: str | None = None
+    depth_topic: str | None = None
+    info_topic: str | None = None
+    world_frame: str | None = None
+
+
+class RosBag:
+    """Frames of a ROS bag (see the module's docstring and :class:`BagTopics`)."""
+
+    def __init__(
+        self,
+        path: str | Path,
+        color_topic: str | None = None,
+        depth_topic: str | None = None,
+        info_topic: str | None = None,
+        world_frame: str | None = None,
+    ) -> None:
+        self.path = Path(path)
+        self.name = str(self.path)
+        self.reader, self._bad_message = _reader(self.path)
+        try:
+            with self.reader as bag:
+                images = [c for c in bag.connections if c.msgtype in (IMAGE, COMPRESSED)]
+                first = {c.topic: m for c in images if (m := self._first(c)) is not None}
+                colours = [t for t, m in first.items() if _is_colour(m)]
+                depths = [t for t, m in first.items() if _is_depth(m)]
+                self.color_topic = _pick("colour image", color_topic, colours, "--color-topic")
+                self.depth_topic = _pick("depth image", depth_topic, depths, "--depth-topic")
+                infos = [c.topic for c in bag.connections if c.msgtype == CAMERA_INFO]
+                # The driver's convention: the colour image's camera info beside it in its namespace.
+                beside = [t for t in infos if t.rsplit("/", 1)[0] == self.color_topic.rsplit("/", 1)[0]]
+                info = _pick("camera info", info_topic, beside or infos, "--info-topic")
+                message = self._first(next(c for c in bag.connections if c.topic == info))
+                if message is None:
+                    raise ValueError(f"topic {info} holds no camera info")
+                self.intrinsics = intrinsics(message)
+                self.tree = self._transforms(bag)
+                self.frames = sum(c.msgcount for c in bag.connections if c.topic == self.color_topic)
+        except (KeyError, AttributeError) as e:
+            raise ValueError(f"{self.path}: a message of an unexpected shape ({e})") from e
+        except (ValueError, self._bad_message) as e:
+            raise ValueError(f"{self.path}: {e}") from e
+        self.camera_frame = str(first[self.color_topic].header.frame_id).lstrip("/")
+        self.world_frame = self._world(world_frame)
+
+    def _world(self, named: str | None) -> str | None:
+        """The frame the camera is placed in: the one named, else odom, else the camera's root;
+        None where the bag has no transforms. Refused where the camera's frame is not below it."""
+        if not self.tree.edges:
+            if named is not None:
+                raise ValueError(f"{self.path}: the bag has no transforms to place the camera in {named!r}")
+            return None
+        if named is not None and named not in self.tree:
+            raise ValueError(f"{self.path}: the transforms have no frame {named!r}")
+        world = named or ("odom" if "odom" in self.tree else self.tree.root(self.camera_frame))
+        if self.tree.root(world) != self.tree.root(self.camera_frame):
+            raise ValueError(
+                f"{self.path}: the colour images' frame {self.camera_frame!r} is not connected to "
+                f"{world!r} by the transforms (name the fixed frame with --world-frame)"
+            )
+        return world
+
+    def _first(self, connection: Any) -> Any:
+        """The first message of a connection, None where it holds none."""
+        for conn, _, raw in self.reader.messages(connections=[connection]):
+            return self.reader.deserialize(raw, conn.msgtype)
+        return None
+
+    def _transforms(self, bag: Any) -> TransformTree:
+        tree = TransformTree()
+        for conn in [c for c in bag.connections if c.msgtype == TF]:
+            static = conn.topic.endswith("tf_static")
+            for _, _, raw in bag.messages(connections=[conn]):
+                for tf in bag.deserialize(raw, conn.msgtype).transforms:
+                    p, q = tf.transform.translation, tf.transform.rotation
+                    tree.add(
+                        tf.header.frame_id.lstrip("/"),
+                        tf.child_frame_id.lstrip("/"),
+                        stamp(tf),
+                        np.array([p.x, p.y, p.z]),
+                        np.array([q.x, q.y, q.z, q.w]),
+                        static,
+                    )
+        return tree
+
+    def camera(self, t: float) -> Camera:
+        """The colour camera at time ``t``: placed in the world frame by the transforms, or level
+        at the origin where the bag has none."""
+        if self.world_frame is None:
+            return Camera(self.intrinsics, level_camera())
+        return Camera(self.intrinsics, self.tree.lookup(self.world_frame, self.camera_frame, t))
+
+    def __len__(self) -> int:
+        return self.frames
+
+    def __iter__(self) -> Iterator[Frame | SkippedFrame]:
+        with self.reader as bag:
+            wanted = [c for c in bag.connections if c.topic in (self.color_topic, self.depth_topic)]
+            pending: deque[tuple[int, float, Any]] = deque()
+            depths: deque[tuple[float, Any]] = deque(maxlen=LOOKAHEAD)
+            index = 0
+            for conn, _, raw in bag.messages(connections=wanted):
+                try:
+                    message = bag.deserialize(raw, conn.msgtype)
+                    t = stamp(message)
+                except (self._bad_message, AttributeError) as e:  # one bad frame, not the stream
+                    if conn.topic == self.color_topic:
+                        yield SkippedFrame(index, None, f"{conn.topic}: {e}")
+                        index += 1
+                    continue
+                if conn.topic == self.color_topic:
+                    pending.append((index, t, message))
+                    index += 1
+                else:
+                    depths.append((t, message))
+                # A colour image is paired once a depth image stamped at or after it has come,
+                # or once LOOKAHEAD more colour images have come without one.
+                while pending and ((depths and depths[-1][0] >= pending[0][1]) or len(pending) > LOOKAHEAD):
+                    yield self._frame(*pending.popleft(), depths)
+            while pending:
+                yield self._frame(*pending.popleft(), depths)
+
+    def _frame(
+        self, index: int, t: float, message: Any, depths: deque[tuple[float, Any]]
+    ) -> Frame | SkippedFrame:
+        try:
+            color = colour_image(message)
+            depth = None
+            if depths:
+                nearest_t, nearest = min(depths, key=lambda d: abs(d[0] - t))
+                if abs(nearest_t - t) <= PAIRING_TOLERANCE:
+                    depth = depth_image(nearest)
+                    if depth.shape != color.shape[:2]:
+                        raise ValueError(
+                            f"depth {depth.shape} is not the colour image's size {color.shape[:2]}: "
+                            "the depth must be registered to the colour image"
+                        )
+            return Frame(index, t, color, depth, self.camera(t))
+        except (*READ_ERRORS, TransformLookupError) as e:
+            return SkippedFrame(index, t, f"{self.color_topic} at {t:.6f} s: {e}")
+
+
+def _is_colour(message: Any) -> bool:
+    if message.__msgtype__ == COMPRESSED:
+        return "compressedDepth" not in message.format
+    return message.encoding in COLOUR_ENCODINGS
+
+
+def _is_depth(message: Any) -> bool:
+    return message.__msgtype__ == IMAGE and message.encoding in DEPTH_ENCODINGS
+
+
+def _pick(what: str, named: str | None, candidates: list[str], flag: str) -> str:
+    """The topic named, which must be a candidate, or the one candidate there is."""
+    if named is not None:
+        if named not in candidates:
+            found = ", ".join(candidates) or "none"
+            raise ValueError(f"{named} is not a {what} topic of the bag (found: {found})")
+        return named
+    if len(candidates) != 1:
+        found = ", ".join(candidates) or "none"
+        raise ValueError(f"the bag has {len(candidates)} {what} topics ({found}): name one with {flag}")
+    return candidates[0]

@@ -1,0 +1,277 @@
+"""ROS bags as a frame source, and the transform tree that places their camera: checked against
+SciPy's rotations and against the rendered frames a bag was written from."""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation, Slerp
+
+from torsocast.cli import main
+from torsocast.datasets import cmu
+from torsocast.sources import Frame, SkippedFrame, open_source
+from torsocast.sources.transforms import TransformLookupError, TransformTree, matrix
+from torsocast.synthetic.mocap import MocapScene
+
+rosbags = pytest.importorskip("rosbags", reason="the ROS bag source needs the rosbags package ('.[ros]')")
+from rosbags.typesys import Stores, get_types_from_msg, get_typestore  # noqa: E402
+
+from torsocast.sources.rosbag import RosBag  # noqa: E402
+
+#: The bags' clock: a robot's stamps are seconds since 1970, not since the recording began.
+EPOCH = 1.7e9
+
+
+def test_a_dynamic_transform_is_interpolated_as_scipy_slerps_it():
+    # world <- a (static) <- b (moving: five samples) <- camera (static), and a sibling branch
+    # world <- c (static): b's pose between samples is the linear translation and SciPy's slerp.
+    rng = np.random.default_rng(3)
+    tree = TransformTree()
+    statics = {name: (rng.normal(size=3), Rotation.random(random_state=k)) for k, name in enumerate("acx")}
+    tree.add("world", "a", 0.0, statics["a"][0], statics["a"][1].as_quat(), static=True)
+    tree.add("b", "camera", 0.0, statics["x"][0], statics["x"][1].as_quat(), static=True)
+    tree.add("world", "c", 0.0, statics["c"][0], statics["c"][1].as_quat(), static=True)
+    times = np.array([0.0, 0.1, 0.25, 0.3, 0.5])
+    moves = rng.normal(size=(5, 3))
+    turns = Rotation.random(5, random_state=9)
+    for k in (3, 0, 4, 1, 2):  # out of order, as two topics' messages may come
+        tree.add("a", "b", times[k], moves[k], turns[k].as_quat(), static=False)
+
+    def rigid(translation, rotation):
+        return matrix(translation, rotation.as_quat())
+
+    slerp = Slerp(times, turns)
+    for t in (0.0, 0.05, 0.2, 0.3, 0.42, 0.5):
+        k = min(int(np.searchsorted(times, t, side="right")), 4)
+        s = (t - times[k - 1]) / (times[k] - times[k - 1])
+        move = moves[k - 1] + s * (moves[k] - moves[k - 1])
+        a_b = rigid(move, slerp([t])[0])
+        world_camera = rigid(*statics["a"]) @ a_b @ rigid(*statics["x"])
+        np.testing.assert_allclose(tree.lookup("world", "camera", t), world_camera, atol=1e-12)
+        # Across branches: the camera in c's coordinates.
+        expected = np.linalg.inv(rigid(*statics["c"])) @ world_camera
+        np.testing.assert_allclose(tree.lookup("c", "camera", t), expected, atol=1e-12)
+    np.testing.assert_allclose(tree.lookup("camera", "camera", 0.2), np.eye(4))
+
+    # Never extrapolated; unconnected frames, a second parent and a loop are refused by name.
+    with pytest.raises(TransformLookupError, match=r"from b to a at 0.600000 s: it is known from 0.000000"):
+        tree.lookup("world", "camera", 0.6)
+    tree.lookup("world", "a", 0.6)  # a static transform holds at every time
+    with pytest.raises(TransformLookupError, match="not connected"):
+        tree.lookup("elsewhere", "camera", 0.2)
+    with pytest.raises(ValueError, match="frame b has two parents, a and c"):
+        tree.add("c", "b", 0.1, np.zeros(3), np.array([0, 0, 0, 1.0]), static=False)
+    with pytest.raises(ValueError, match="closes a loop"):
+        tree.add("camera", "world", 0.1, np.zeros(3), np.array([0, 0, 0, 1.0]), static=True)
+    with pytest.raises(ValueError, match="not a unit quaternion"):
+        tree.add("world", "d", 0.1, np.zeros(3), np.zeros(4), static=True)
+
+
+def read(source) -> list[Frame]:
+    """Every frame of ``source``, each of which must have been read (none skipped), with a camera."""
+    out = list(source)
+    assert all(isinstance(f, Frame) and f.camera is not None for f in out)
+    return out
+
+
+@pytest.fixture(scope="module")
+def frames():
+    walk = cmu.load_clip(cmu.bundled_clips()["test_walking_1"])
+    return list(MocapScene(walk, fps=10.0))[:24]
+
+
+def write_bag(
+    path, frames, ros=2, encoding="bgr8", drive=(0.0, 0.0, 0.0), extra=(), depth_lag=0.003, mount="base_link"
+):
+    """``frames`` as a robot records them: colour (``encoding``, rows padded) and registered
+    depth in millimetres (stamped ``depth_lag`` s later) in the RealSense driver's topics, its
+    camera info, the camera's optical frame on the robot (``/tf_static``, below ``mount``) and the
+    robot in ``odom`` at 50 Hz (``/tf``), driving at ``drive`` m/s from the first frame's pose;
+    a ROS 1 bag (``ros`` 1), or a ROS 2 one in SQLite (2) or MCAP storage. ``extra``: more
+    (topic, message type, [(stamp, message)]) to record."""
+    store = get_typestore(Stores.ROS1_NOETIC if ros == 1 else Stores.ROS2_HUMBLE)
+    if ros == 1:  # Noetic's store lacks tf2's message; a ROS 1 bag carries its definition
+        tf = "geometry_msgs/TransformStamped[] transforms"
+        store.register(get_types_from_msg(tf, "tf2_msgs/msg/TFMessage"))
+    T = store.types
+    writer: Any
+    serialize: Any
+    if ros in (2, "mcap"):
+        from rosbags.rosbag2 import StoragePlugin
+        from rosbags.rosbag2 import Writer as Writer2
+
+        storage = StoragePlugin.MCAP if ros == "mcap" else StoragePlugin.SQLITE3
+        writer, serialize = Writer2(path, version=9, storage_plugin=storage), store.serialize_cdr
+    else:
+        from rosbags.rosbag1 import Writer as Writer1
+
+        writer, serialize = Writer1(path), store.serialize_ros1
+
+    def header(t, frame="camera_color_optical_frame"):
+        time = T["builtin_interfaces/msg/Time"](sec=int(t), nanosec=int(round((t % 1) * 1e9)) % 10**9)
+        fields = {"seq": 0} if ros == 1 else {}
+        return T["std_msgs/msg/Header"](**fields, stamp=time, frame_id=frame)
+
+    def image(t, pixels, encoding, pad=4):
+        h, w = pixels.shape[:2]
+        rows = pixels.reshape(h, -1).view(np.uint8)
+        data = np.zeros((h, rows.shape[1] + pad), np.uint8)
+        data[:, : rows.shape[1]] = rows
+        return T["sensor_msgs/msg/Image"](
+            header=header(t),
+            height=h,
+            width=w,
+            encoding=encoding,
+            is_bigendian=0,
+            step=data.shape[1],
+            data=data.reshape(-1),
+        )
+
+    def transform(t, parent, child, pose):
+        q = Rotation.from_matrix(pose[:3, :3]).as_quat()
+        return T["geometry_msgs/msg/TransformStamped"](
+            header=header(t, parent),
+            child_frame_id=child,
+            transform=T["geometry_msgs/msg/Transform"](
+                translation=T["geometry_msgs/msg/Vector3"](x=pose[0, 3], y=pose[1, 3], z=pose[2, 3]),
+                rotation=T["geometry_msgs/msg/Quaternion"](x=q[0], y=q[1], z=q[2], w=q[3]),
+            ),
+        )
+
+    camera = np.asarray(frames[0].camera.camera_to_world)
+    on_robot = np.eye(4)
+    on_robot[:3, :3] = Rotation.from_euler("z", 0.3).as_matrix() @ camera[:3, :3]
+    on_robot[:3, 3] = [0.2, 0.0, 1.1]
+    robot = camera @ np.linalg.inv(on_robot)  # odom <- base_link at the first frame
+    start = EPOCH + frames[0].time
+    k = frames[0].camera.intrinsics
+    height, width = frames[0].color.shape[:2]
+    info = {"height": height, "width": width, "binning_x": 0, "binning_y": 0, "distortion_model": "plumb_bob"}
+    calib = np.array([k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1.0]), np.zeros(5), np.eye(3).ravel(), np.zeros(12)
+    info |= dict(zip(("k", "d", "r", "p") if ros != 1 else ("K", "D", "R", "P"), calib))
+    roi = T["sensor_msgs/msg/RegionOfInterest"](x_offset=0, y_offset=0, height=0, width=0, do_rectify=False)
+    camera_info = T["sensor_msgs/msg/CameraInfo"](header=header(start), **info, roi=roi)
+    mounted = T["tf2_msgs/msg/TFMessage"](
+        transforms=[transform(start, mount, "camera_color_optical_frame", on_robot)]
+    )
+    messages = [
+        ("/camera/color/camera_info", "sensor_msgs/msg/CameraInfo", [(start, camera_info)]),
+        ("/tf_static", "tf2_msgs/msg/TFMessage", [(start, mounted)]),
+    ]
+    drives = []
+    for t in np.arange(start - 0.1, EPOCH + frames[-1].time + 0.1, 0.02):
+        moved = robot.copy()
+        moved[:3, 3] += np.asarray(drive) * (t - start)
+        drives.append((t, T["tf2_msgs/msg/TFMessage"](transforms=[transform(t, "odom", "base_link", moved)])))
+    messages.append(("/tf", "tf2_msgs/msg/TFMessage", drives))
+    pictures = []
+    depths = []
+    for f in frames:
+        t = EPOCH + f.time
+        pixels = f.color[..., ::-1] if encoding == "bgr8" else f.color
+        pictures.append((t, image(t, np.ascontiguousarray(pixels), encoding)))
+        mm = np.round(1000 * f.depth).astype(np.uint16)
+        depths.append((t + depth_lag, image(t + depth_lag, mm, "16UC1")))
+    messages.append(("/camera/color/image_raw", "sensor_msgs/msg/Image", pictures))
+    messages.append(("/camera/aligned_depth_to_color/image_raw", "sensor_msgs/msg/Image", depths))
+    messages.extend(extra)
+    with writer:
+        for topic, kind, stamped in messages:
+            connection = writer.add_connection(topic, kind, typestore=store)
+            for t, message in stamped:
+                writer.write(connection, int(round(t * 1e9)), serialize(message, kind))
+    return path
+
+
+@pytest.mark.parametrize("ros", [1, 2, "mcap"])
+def test_a_bag_gives_back_the_frames_it_was_written_from(frames, tmp_path, ros):
+    path = write_bag(tmp_path / ("walk.bag" if ros == 1 else "walk"), frames, ros=ros)
+    bag = open_source(path)
+    assert isinstance(bag, RosBag) and len(bag) == len(frames)
+    assert (bag.color_topic, bag.world_frame) == ("/camera/color/image_raw", "odom")
+    got_frames = read(bag)
+    assert [f.index for f in got_frames] == list(range(len(frames)))
+    for got, made in zip(got_frames, frames):
+        assert got.depth is not None and got.camera is not None and made.camera is not None
+        assert got.time == pytest.approx(EPOCH + made.time, abs=1e-6)
+        np.testing.assert_array_equal(got.color, made.color)  # bgr8 with padded rows, as rendered
+        np.testing.assert_allclose(got.depth, made.depth, atol=0.0005 + 1e-6)  # to the millimetre
+        assert got.camera.intrinsics == made.camera.intrinsics
+        # The optical frame on the robot, the robot in odom: the rendering camera.
+        np.testing.assert_allclose(got.camera.camera_to_world, made.camera.camera_to_world, atol=1e-9)
+
+
+def test_a_driving_robot_places_its_camera_where_the_transforms_put_it_at_each_stamp(frames, tmp_path):
+    drive = np.array([0.5, -0.2, 0.0])
+    bag = RosBag(write_bag(tmp_path / "drive", frames, drive=drive))
+    for got, made in zip(read(bag), frames):
+        assert got.camera is not None and made.camera is not None
+        expected = np.array(made.camera.camera_to_world)
+        expected[:3, 3] += drive * (made.time - frames[0].time)
+        np.testing.assert_allclose(got.camera.camera_to_world, expected, atol=1e-9)
+
+
+def test_a_colour_image_without_a_depth_image_near_it_is_a_colour_only_frame(frames, tmp_path):
+    # Depth stamped 30 ms after each colour image at 10 frames/s: none within the 20 ms pairing.
+    late = read(RosBag(write_bag(tmp_path / "late", frames[:5], depth_lag=0.03)))
+    assert [f.depth for f in late] == [None] * 5
+    near = read(RosBag(write_bag(tmp_path / "near", frames[:5], depth_lag=0.015)))
+    assert [f.depth is None for f in near] == [False] * 5
+
+
+def test_a_bag_runs_as_its_frames_do(frames, tmp_path, capsys):
+    # `torsocast run` on the bag writes what a run on the same frames (depth in mm) writes.
+    from torsocast.sources.recording import write
+
+    path = write_bag(tmp_path / "walk", frames)
+    write(
+        tmp_path / "walk.npz",
+        np.stack([f.color for f in frames]),
+        np.stack([np.round(1000 * f.depth).astype(np.uint16) for f in frames]),
+        [EPOCH + f.time for f in frames],
+        frames[0].camera,
+    )
+    for source, out in ((path, "bag"), (tmp_path / "walk.npz", "npz")):
+        assert main(["run", str(source), "--out", str(tmp_path / out)]) == 0
+    capsys.readouterr()
+    lines = {
+        out: [json.loads(line) for line in (tmp_path / out / "frames.jsonl").read_text().splitlines()]
+        for out in ("bag", "npz")
+    }
+    tracked = [p for line in lines["bag"] for p in line["people"] if p["id"] is not None]
+    assert len(tracked) >= len(frames) - 3 and lines["bag"] == lines["npz"]
+
+
+def test_a_bags_topics_are_named_where_it_has_several_and_a_bad_image_is_skipped(frames, tmp_path, capsys):
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    T = store.types
+    time = T["builtin_interfaces/msg/Time"](sec=int(EPOCH) + 1, nanosec=0)
+    header = T["std_msgs/msg/Header"](stamp=time, frame_id="camera_color_optical_frame")
+    data = np.arange(50, dtype=np.uint8)  # not a JPEG
+    broken = T["sensor_msgs/msg/CompressedImage"](header=header, format="jpeg", data=data)
+    compressed = "/camera/color/image_raw/compressed"
+    extra = [(compressed, "sensor_msgs/msg/CompressedImage", [(EPOCH + 1, broken)])]
+    path = write_bag(tmp_path / "two", frames, extra=extra)
+    topics = rf"2 colour image topics \(/camera/color/image_raw, {compressed}\)"
+    with pytest.raises(ValueError, match=rf"{topics}: name one with --color-topic"):
+        RosBag(path)
+    with pytest.raises(ValueError, match="/nope is not a colour image topic"):
+        RosBag(path, color_topic="/nope")
+    with pytest.raises(ValueError, match="the transforms have no frame 'map'"):
+        RosBag(path, color_topic="/camera/color/image_raw", world_frame="map")
+    with pytest.raises(ValueError, match="'camera_color_optical_frame' is not connected to 'odom'"):
+        RosBag(write_bag(tmp_path / "apart", frames[:2], mount="elsewhere"))
+    # The compressed topic's one image does not decode: reported and skipped.
+    (skipped,) = list(RosBag(path, color_topic=compressed))
+    assert isinstance(skipped, SkippedFrame) and skipped.time == pytest.approx(EPOCH + 1)
+    # The command line asks for the topic in one line, and takes it.
+    assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "name one with --color-topic" in err
+    assert main(["run", str(path), "--out", str(tmp_path / "out"), "--color-topic", compressed]) == 0
+    assert "frame 0 skipped: /camera/color/image_raw/compressed at" in capsys.readouterr().err
+    # A bag's options given for another source are refused.
+    assert main(["run", str(tmp_path / "nothing.npz"), "--world-frame", "odom"]) == 2
