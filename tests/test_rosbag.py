@@ -84,14 +84,23 @@ def frames():
 
 
 def write_bag(
-    path, frames, ros=2, encoding="bgr8", drive=(0.0, 0.0, 0.0), extra=(), depth_lag=0.003, mount="base_link"
+    path,
+    frames,
+    ros=2,
+    encoding="bgr8",
+    drive=(0.0, 0.0, 0.0),
+    extra=(),
+    depth_lag=0.003,
+    mount="base_link",
+    without_depth=(),
 ):
     """``frames`` as a robot records them: colour (``encoding``, rows padded) and registered
     depth in millimetres (stamped ``depth_lag`` s later) in the RealSense driver's topics, its
     camera info, the camera's optical frame on the robot (``/tf_static``, below ``mount``) and the
     robot in ``odom`` at 50 Hz (``/tf``), driving at ``drive`` m/s from the first frame's pose;
     a ROS 1 bag (``ros`` 1), or a ROS 2 one in SQLite (2) or MCAP storage. ``extra``: more
-    (topic, message type, [(stamp, message)]) to record."""
+    (topic, message type, [(stamp, message)]) to record; the frames numbered in
+    ``without_depth`` have no depth image."""
     store = get_typestore(Stores.ROS1_NOETIC if ros == 1 else Stores.ROS2_HUMBLE)
     if ros == 1:  # Noetic's store lacks tf2's message; a ROS 1 bag carries its definition
         tf = "geometry_msgs/TransformStamped[] transforms"
@@ -169,12 +178,13 @@ def write_bag(
     messages.append(("/tf", "tf2_msgs/msg/TFMessage", drives))
     pictures = []
     depths = []
-    for f in frames:
+    for k, f in enumerate(frames):
         t = EPOCH + f.time
         pixels = f.color[..., ::-1] if encoding == "bgr8" else f.color
         pictures.append((t, image(t, np.ascontiguousarray(pixels), encoding)))
         mm = np.round(1000 * f.depth).astype(np.uint16)
-        depths.append((t + depth_lag, image(t + depth_lag, mm, "16UC1")))
+        if k not in without_depth:
+            depths.append((t + depth_lag, image(t + depth_lag, mm, "16UC1")))
     messages.append(("/camera/color/image_raw", "sensor_msgs/msg/Image", pictures))
     messages.append(("/camera/aligned_depth_to_color/image_raw", "sensor_msgs/msg/Image", depths))
     messages.extend(extra)
@@ -275,3 +285,51 @@ def test_a_bags_topics_are_named_where_it_has_several_and_a_bad_image_is_skipped
     assert "frame 0 skipped: /camera/color/image_raw/compressed at" in capsys.readouterr().err
     # A bag's options given for another source are refused.
     assert main(["run", str(tmp_path / "nothing.npz"), "--world-frame", "odom"]) == 2
+
+
+def test_the_body_frames_are_written_as_a_ros_bag_that_reads_back_as_the_json_lines(frames, tmp_path, capsys):
+    from rosbags.highlevel import AnyReader
+
+    # Frames 12 to 15 without depth: the walker's track is kept unseen there, and still on /tf.
+    source = write_bag(tmp_path / "walk", frames, without_depth=range(12, 16))
+    out = tmp_path / "out"
+    assert main(["run", str(source), "--out", str(out), "--bag"]) == 0
+    lines = [json.loads(line) for line in (out / "frames.jsonl").read_text().splitlines()]
+    expected: dict[int, dict[str, dict]] = {}
+    shown: dict[int, list[str]] = {}
+    for line in lines:
+        stamp = int(round(line["time"] * 1e9))
+        frames_now = [p["body_frame"] for p in line["people"] if p.get("body_frame")]
+        frames_now += [u["body_frame"] for u in line["unseen"] if u["body_frame"]]
+        expected[stamp] = {f["child_frame_id"]: f for f in frames_now}
+        shown[stamp] = [str(p["id"]) for p in line["people"] if p.get("body_frame")]
+    assert sum(len(line["unseen"]) for line in lines) >= 3
+    written: dict[int, dict[str, Any]] = {}
+    tracked: dict[int, list[str]] = {}
+    with AnyReader([out / "bodies"]) as bag:
+        assert {c.topic: c.msgtype for c in bag.connections} == {
+            "/tf": "tf2_msgs/msg/TFMessage",
+            "/humans/bodies/tracked": "hri_msgs/msg/IdsList",
+        }
+        for conn, stamp, raw in bag.messages():
+            message: Any = bag.deserialize(raw, conn.msgtype)
+            if conn.topic == "/tf":
+                written[stamp] = {tf.child_frame_id: tf for tf in message.transforms}
+            else:
+                tracked[stamp] = list(message.ids)
+    assert tracked == shown and set(written) == {t for t, f in expected.items() if f}
+    for stamp, transforms in written.items():
+        assert set(transforms) == set(expected[stamp])
+        for child, tf in transforms.items():
+            assert tf.header.frame_id == "odom"  # the source bag's world frame
+            assert tf.header.stamp.sec + 1e-9 * tf.header.stamp.nanosec == pytest.approx(stamp * 1e-9)
+            p, q = tf.transform.translation, tf.transform.rotation
+            np.testing.assert_allclose([p.x, p.y, p.z], expected[stamp][child]["translation"], atol=1e-4)
+            np.testing.assert_allclose([q.x, q.y, q.z, q.w], expected[stamp][child]["rotation"], atol=1e-6)
+    # A second run replaces the first's bag; a folder that is not a bag is never removed.
+    assert main(["run", str(source), "--out", str(out), "--bag"]) == 0
+    capsys.readouterr()
+    (out / "bodies" / "notes.txt").write_text("mine")
+    assert main(["run", str(source), "--out", str(out), "--bag"]) == 2
+    assert "bodies: exists, and is not a ROS bag this could replace" in capsys.readouterr().err
+    assert (out / "bodies" / "notes.txt").read_text() == "mine"

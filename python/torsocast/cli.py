@@ -6,12 +6,18 @@ import argparse
 import json
 import os
 import sys
+from collections.abc import Callable
+from contextlib import nullcontext
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from . import COMPONENTS, MAX_DEGREE, Forecaster, ForecasterConfig, TorsocastError, __version__, wrap_angle
 from ._core import MAX_HORIZON
+
+if TYPE_CHECKING:
+    from .pipeline import FrameResult
 
 #: Bounds on the sizes a caller gives (the batch timing's windows hold 2 KB each; a scene takes
 #: seconds to render).
@@ -264,10 +270,31 @@ def _run(args: argparse.Namespace) -> int:
     from .topdown import TopDown
 
     plot = TopDown()
-    observers = [plot] if args.plot else []
-    summary = run(source, model, args.out, horizons, args.overlay, observers=observers, video=args.video)
+    observers: list[Callable[[FrameResult], None]] = [plot] if args.plot else []
+    bag = None
+    if args.bag:
+        from .rosout import BodyBag
+
+        try:
+            world = getattr(source, "world_frame", None) or "world"
+            bag = BodyBag(Path(args.out) / "bodies", world, replace=True)
+        except (ImportError, FileExistsError) as e:
+            print(f"torsocast run: {e}", file=sys.stderr)
+            return 2
+    with bag or nullcontext():
+        summary = run(
+            source,
+            model,
+            args.out,
+            horizons,
+            args.overlay,
+            observers=[*observers, *([bag] if bag else [])],
+            video=args.video,
+        )
     print(summary)
     written = [summary.out / "frames.jsonl"]
+    if bag:
+        written.append(bag.path)
     if args.overlay:
         written.append(summary.out / "overlay")
     if args.video:
@@ -370,6 +397,11 @@ def main(argv: list[str] | None = None) -> int:
     rn.add_argument("--overlay", action="store_true", help="also draw every frame's result as a JPEG")
     rn.add_argument("--video", action="store_true", help="also write those pictures as overlay.avi (MJPEG)")
     rn.add_argument("--plot", action="store_true", help="also draw the tracks from above (topdown.png)")
+    rn.add_argument(
+        "--bag",
+        action="store_true",
+        help="also write the body frames as a ROS 2 bag (bodies/: /tf, REP-155 ids)",
+    )
     bag = rn.add_argument_group("ROS bags", "needed only where the bag has more than one candidate")
     bag.add_argument("--color-topic", help="colour images (sensor_msgs/Image or CompressedImage)")
     bag.add_argument("--depth-topic", help="depth images registered to the colour images (16UC1 mm, 32FC1 m)")

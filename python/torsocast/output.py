@@ -99,13 +99,22 @@ def record(result: FrameResult, horizons: Sequence[float]) -> dict[str, Any]:
     }
 
 
-def _body_frame(track_id: int, pose: np.ndarray) -> dict[str, Any] | None:
-    """The REP-155 body frame ``body_<id>`` of a pose; None for one the core refuses (a forecast
-    whose elevation has left 0 to π: no upright direction to take the frame's roll from)."""
+def body_frame_of(pose: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """The REP-155 body frame of a pose, (translation, quaternion ``[x, y, z, w]``); None for one
+    the core refuses (a forecast whose elevation has left 0 to π: no upright direction to take
+    the frame's roll from)."""
     try:
-        translation, rotation = body_frame(pose)
+        return body_frame(pose)  # type: ignore[no-any-return]
     except (InvalidArgumentError, NonFiniteError):
         return None
+
+
+def _body_frame(track_id: int, pose: np.ndarray) -> dict[str, Any] | None:
+    """The body frame ``body_<id>`` of a pose as a JSON object (:func:`body_frame_of`)."""
+    frame = body_frame_of(pose)
+    if frame is None:
+        return None
+    translation, rotation = frame
     return {
         "child_frame_id": f"body_{track_id}",
         "translation": _clean(translation),
