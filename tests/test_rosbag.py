@@ -333,3 +333,39 @@ def test_the_body_frames_are_written_as_a_ros_bag_that_reads_back_as_the_json_li
     assert main(["run", str(source), "--out", str(out), "--bag"]) == 2
     assert "bodies: exists, and is not a ROS bag this could replace" in capsys.readouterr().err
     assert (out / "bodies" / "notes.txt").read_text() == "mine"
+
+
+def test_camera_info_gives_the_intrinsics_and_refuses_a_distortion_it_cannot_model():
+    from torsocast.sources.rosbag import intrinsics
+
+    T = get_typestore(Stores.ROS2_HUMBLE).types
+
+    def info(model, d, k=(500.0, 0, 320.0, 0, 510.0, 240.0, 0, 0, 1)):
+        time = T["builtin_interfaces/msg/Time"](sec=0, nanosec=0)
+        roi = T["sensor_msgs/msg/RegionOfInterest"](
+            x_offset=0, y_offset=0, height=0, width=0, do_rectify=False
+        )
+        return T["sensor_msgs/msg/CameraInfo"](
+            header=T["std_msgs/msg/Header"](stamp=time, frame_id="c"),
+            height=480,
+            width=640,
+            distortion_model=model,
+            d=np.array(d, float),
+            k=np.array(k, float),
+            r=np.eye(3).ravel(),
+            p=np.zeros(12),
+            binning_x=0,
+            binning_y=0,
+            roi=roi,
+        )
+
+    got = intrinsics(info("plumb_bob", [0.1, -0.05, 0.001, 0.002, 0.01]))
+    assert (got.fx, got.fy, got.cx, got.cy) == (500.0, 510.0, 320.0, 240.0)
+    assert got.distortion == (0.1, -0.05, 0.001, 0.002, 0.01)
+    assert intrinsics(info("rational_polynomial", [0.1, 0, 0, 0, 0, 0, 0, 0])).distortion[0] == 0.1
+    with pytest.raises(ValueError, match="distortion model 'equidistant' with 4 coefficients"):
+        intrinsics(info("equidistant", [0.1, 0.0, 0.0, 0.0]))
+    with pytest.raises(ValueError, match="k4 to k6 zero"):
+        intrinsics(info("rational_polynomial", [0.1, 0, 0, 0, 0, 0.2, 0, 0]))
+    with pytest.raises(ValueError, match="not a 3x3 camera matrix's 9"):
+        intrinsics(info("plumb_bob", [], k=(500.0, 320.0)))

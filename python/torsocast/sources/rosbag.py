@@ -108,6 +108,8 @@ def intrinsics(message: Any) -> Intrinsics:
     """The pinhole intrinsics and Brown-Conrady distortion of a CameraInfo message."""
     k = np.asarray(getattr(message, "k", getattr(message, "K", None)), dtype=np.float64)
     d = [float(v) for v in getattr(message, "d", getattr(message, "D", []))]
+    if k.shape != (9,):
+        raise ValueError(f"camera info: k holds {k.size} numbers, not a 3x3 camera matrix's 9")
     model = message.distortion_model
     if model not in ("plumb_bob", "rational_polynomial", "") or any(d[5:]):
         raise ValueError(
