@@ -290,6 +290,8 @@ def test_a_bags_topics_are_named_where_it_has_several_and_a_bad_image_is_skipped
 def test_the_body_frames_are_written_as_a_ros_bag_that_reads_back_as_the_json_lines(frames, tmp_path, capsys):
     from rosbags.highlevel import AnyReader
 
+    from torsocast.output import body_frame_of
+
     # Frames 12 to 15 without depth: the walker's track is kept unseen there, and still on /tf.
     source = write_bag(tmp_path / "walk", frames, without_depth=range(12, 16))
     out = tmp_path / "out"
@@ -297,35 +299,65 @@ def test_the_body_frames_are_written_as_a_ros_bag_that_reads_back_as_the_json_li
     lines = [json.loads(line) for line in (out / "frames.jsonl").read_text().splitlines()]
     expected: dict[int, dict[str, dict]] = {}
     shown: dict[int, list[str]] = {}
+    paths: dict[tuple[str, int], list[tuple[float, list[float]]]] = {}
     for line in lines:
         stamp = int(round(line["time"] * 1e9))
-        frames_now = [p["body_frame"] for p in line["people"] if p.get("body_frame")]
-        frames_now += [u["body_frame"] for u in line["unseen"] if u["body_frame"]]
+        people = [p for p in line["people"] if p.get("body_frame")]
+        frames_now = [p["body_frame"] for p in people] + [u["body_frame"] for u in line["unseen"]]
         expected[stamp] = {f["child_frame_id"]: f for f in frames_now}
-        shown[stamp] = [str(p["id"]) for p in line["people"] if p.get("body_frame")]
-    assert sum(len(line["unseen"]) for line in lines) >= 3
+        shown[stamp] = [str(p["id"]) for p in people]
+        for p in people:
+            if p["forecast"] is not None:
+                paths[(f"/humans/bodies/{p['id']}/forecast", stamp)] = [
+                    (line["time"] + f["horizon"], f["pose"]) for f in p["forecast"]
+                ]
+    assert sum(len(line["unseen"]) for line in lines) >= 3 and len(paths) >= 10
     written: dict[int, dict[str, Any]] = {}
     tracked: dict[int, list[str]] = {}
+    forecasts: dict[tuple[str, int], Any] = {}
     with AnyReader([out / "bodies"]) as bag:
-        assert {c.topic: c.msgtype for c in bag.connections} == {
+        topics = {c.topic: c.msgtype for c in bag.connections}
+        assert topics == {
             "/tf": "tf2_msgs/msg/TFMessage",
             "/humans/bodies/tracked": "hri_msgs/msg/IdsList",
+            "/humans/bodies/1/forecast": "nav_msgs/msg/Path",
         }
         for conn, stamp, raw in bag.messages():
             message: Any = bag.deserialize(raw, conn.msgtype)
             if conn.topic == "/tf":
                 written[stamp] = {tf.child_frame_id: tf for tf in message.transforms}
-            else:
+            elif conn.topic.endswith("tracked"):
                 tracked[stamp] = list(message.ids)
+            else:
+                forecasts[(conn.topic, stamp)] = message
+
+    def seconds(header):
+        assert header.frame_id == "odom"  # the source bag's world frame
+        return header.stamp.sec + 1e-9 * header.stamp.nanosec
+
     assert tracked == shown and set(written) == {t for t, f in expected.items() if f}
     for stamp, transforms in written.items():
         assert set(transforms) == set(expected[stamp])
         for child, tf in transforms.items():
-            assert tf.header.frame_id == "odom"  # the source bag's world frame
-            assert tf.header.stamp.sec + 1e-9 * tf.header.stamp.nanosec == pytest.approx(stamp * 1e-9)
+            assert seconds(tf.header) == pytest.approx(stamp * 1e-9)
             p, q = tf.transform.translation, tf.transform.rotation
             np.testing.assert_allclose([p.x, p.y, p.z], expected[stamp][child]["translation"], atol=1e-4)
             np.testing.assert_allclose([q.x, q.y, q.z, q.w], expected[stamp][child]["rotation"], atol=1e-6)
+    # Each forecast: a path of the poses at the horizons, stamped when they aim, oriented as the
+    # body frame of the forecast pose.
+    assert set(forecasts) == set(paths)
+    for key, path in forecasts.items():
+        assert seconds(path.header) == pytest.approx(key[1] * 1e-9)
+        assert len(path.poses) == len(paths[key])
+        for placed, (aim, pose) in zip(path.poses, paths[key]):
+            # The horizons count from the track's last sample on the 25 Hz grid, within half a
+            # step of the frame's stamp.
+            assert seconds(placed.header) == pytest.approx(aim, abs=0.021)
+            at, o = placed.pose.position, placed.pose.orientation
+            np.testing.assert_allclose([at.x, at.y, at.z], pose[:3], atol=1e-4)
+            frame = body_frame_of(np.array(pose))  # of the pose as the JSON Lines round it
+            assert frame is not None
+            np.testing.assert_allclose([o.x, o.y, o.z, o.w], frame[1], atol=1e-4)
     # A second run replaces the first's bag; a folder that is not a bag is never removed.
     assert main(["run", str(source), "--out", str(out), "--bag"]) == 0
     capsys.readouterr()

@@ -277,7 +277,7 @@ def _run(args: argparse.Namespace) -> int:
 
         try:
             world = getattr(source, "world_frame", None) or "world"
-            bag = BodyBag(Path(args.out) / "bodies", world, replace=True)
+            bag = BodyBag(Path(args.out) / "bodies", horizons, world, replace=True)
         except (ImportError, FileExistsError) as e:
             print(f"torsocast run: {e}", file=sys.stderr)
             return 2
