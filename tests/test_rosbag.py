@@ -4,10 +4,12 @@ SciPy's rotations and against the rendered frames a bag was written from."""
 from __future__ import annotations
 
 import json
+from io import BytesIO
 from typing import Any
 
 import numpy as np
 import pytest
+from PIL import Image as PILImage
 from scipy.spatial.transform import Rotation, Slerp
 
 from torsocast.cli import main
@@ -224,6 +226,46 @@ def test_a_driving_robot_places_its_camera_where_the_transforms_put_it_at_each_s
         np.testing.assert_allclose(got.camera.camera_to_world, expected, atol=1e-9)
 
 
+def test_a_drivers_compressed_copy_and_its_sensors_own_depth_are_passed_over(frames, tmp_path):
+    # As a RealSense driver records: the colour's JPEG copy beside the raw topic, and the depth
+    # sensor's own images (here half the colour's size) beside the ones registered to colour.
+    T = get_typestore(Stores.ROS2_HUMBLE).types
+    time = T["builtin_interfaces/msg/Time"](sec=int(EPOCH), nanosec=0)
+    jpeg = BytesIO()
+    PILImage.fromarray(frames[0].color).save(jpeg, "JPEG")
+    data = np.frombuffer(jpeg.getvalue(), np.uint8)
+    header = T["std_msgs/msg/Header"](stamp=time, frame_id="camera_color_optical_frame")
+    copy = T["sensor_msgs/msg/CompressedImage"](header=header, format="jpeg", data=data)
+    header = T["std_msgs/msg/Header"](stamp=time, frame_id="camera_depth_optical_frame")
+    small = np.zeros((frames[0].color.shape[0] // 2, frames[0].color.shape[1] // 2), np.uint16)
+    own = T["sensor_msgs/msg/Image"](
+        header=header,
+        height=small.shape[0],
+        width=small.shape[1],
+        encoding="16UC1",
+        is_bigendian=0,
+        step=small.shape[1] * 2,
+        data=small.view(np.uint8).ravel(),
+    )
+    extra = [
+        ("/camera/color/image_raw/compressed", "sensor_msgs/msg/CompressedImage", [(EPOCH, copy)]),
+        ("/camera/depth/image_rect_raw", "sensor_msgs/msg/Image", [(EPOCH, own)]),
+    ]
+    path = write_bag(tmp_path / "realsense", frames[:3], extra=extra)
+    bag = RosBag(path)
+    assert (bag.color_topic, bag.depth_topic) == (
+        "/camera/color/image_raw",
+        "/camera/aligned_depth_to_color/image_raw",
+    )
+    # Named, the copy is read (as JPEG), and the sensor's own depth is refused by its size.
+    (first,) = read(RosBag(path, color_topic="/camera/color/image_raw/compressed"))
+    assert np.abs(first.color.astype(int) - frames[0].color).mean() < 3
+    with pytest.raises(
+        ValueError, match=r"are 320x240, the colour images 640x480: the depth must be registered"
+    ):
+        RosBag(path, depth_topic="/camera/depth/image_rect_raw")
+
+
 def test_a_colour_image_without_a_depth_image_near_it_is_a_colour_only_frame(frames, tmp_path):
     # Depth stamped 30 ms after each colour image at 10 frames/s: none within the 20 ms pairing.
     late = read(RosBag(write_bag(tmp_path / "late", frames[:5], depth_lag=0.03)))
@@ -262,7 +304,7 @@ def test_a_bags_topics_are_named_where_it_has_several_and_a_bad_image_is_skipped
     header = T["std_msgs/msg/Header"](stamp=time, frame_id="camera_color_optical_frame")
     data = np.arange(50, dtype=np.uint8)  # not a JPEG
     broken = T["sensor_msgs/msg/CompressedImage"](header=header, format="jpeg", data=data)
-    compressed = "/camera/color/image_raw/compressed"
+    compressed = "/webcam/image_raw/compressed"  # another camera's
     extra = [(compressed, "sensor_msgs/msg/CompressedImage", [(EPOCH + 1, broken)])]
     path = write_bag(tmp_path / "two", frames, extra=extra)
     topics = rf"2 colour image topics \(/camera/color/image_raw, {compressed}\)"
@@ -282,7 +324,7 @@ def test_a_bags_topics_are_named_where_it_has_several_and_a_bad_image_is_skipped
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "name one with --color-topic" in err
     assert main(["run", str(path), "--out", str(tmp_path / "out"), "--color-topic", compressed]) == 0
-    assert "frame 0 skipped: /camera/color/image_raw/compressed at" in capsys.readouterr().err
+    assert f"frame 0 skipped: {compressed} at" in capsys.readouterr().err
     # A bag's options given for another source are refused.
     assert main(["run", str(tmp_path / "nothing.npz"), "--world-frame", "odom"]) == 2
 

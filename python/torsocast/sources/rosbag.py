@@ -149,9 +149,13 @@ class RosBag:
                 images = [c for c in bag.connections if c.msgtype in (IMAGE, COMPRESSED)]
                 first = {c.topic: m for c in images if (m := self._first(c)) is not None}
                 colours = [t for t, m in first.items() if _is_colour(m)]
-                depths = [t for t, m in first.items() if _is_depth(m)]
-                self.color_topic = _pick("colour image", color_topic, colours, "--color-topic")
-                self.depth_topic = _pick("depth image", depth_topic, depths, "--depth-topic")
+                # image_transport's compressed copy of a raw topic the bag holds too: read the raw
+                # unless named.
+                raw = [t for t in colours if not (t.endswith("/compressed") and t[:-11] in colours)]
+                self.color_topic = _pick(
+                    "colour image", color_topic, colours if color_topic else raw, "--color-topic"
+                )
+                self.depth_topic = _depth_topic(first, self.color_topic, depth_topic)
                 infos = [c.topic for c in bag.connections if c.msgtype == CAMERA_INFO]
                 # The driver's convention: the colour image's camera info beside it in its namespace.
                 beside = [t for t in infos if t.rsplit("/", 1)[0] == self.color_topic.rsplit("/", 1)[0]]
@@ -274,6 +278,36 @@ def _is_colour(message: Any) -> bool:
 
 def _is_depth(message: Any) -> bool:
     return message.__msgtype__ == IMAGE and message.encoding in DEPTH_ENCODINGS
+
+
+def _depth_topic(first: dict[str, Any], colour: str, named: str | None) -> str:
+    """The depth topic registered to the ``colour`` topic: named, or the one depth topic whose
+    images have the colour images' size (a driver records its sensor's own depth beside the
+    registered one: a RealSense's ``depth/image_rect_raw`` beside ``aligned_depth_to_color``)."""
+    size = _size(first[colour])
+    depths = {t: (int(m.height), int(m.width)) for t, m in first.items() if _is_depth(m)}
+    registered = [t for t, shape in depths.items() if shape == size]
+    candidates = list(depths) if named or not registered else registered
+    topic = _pick("depth image", named, candidates, "--depth-topic")
+    if size is not None and depths[topic] != size:
+        (h, w), (dh, dw) = size, depths[topic]
+        raise ValueError(
+            f"the depth images of {topic} are {dw}x{dh}, the colour images {w}x{h}: the depth must be "
+            "registered to the colour image (a driver's aligned_depth_to_color or depth_to_rgb topic)"
+        )
+    return topic
+
+
+def _size(message: Any) -> tuple[int, int] | None:
+    """The (height, width) of a colour image message; None for a compressed one that does not
+    decode (its frame is skipped when read)."""
+    if message.__msgtype__ == IMAGE:
+        return int(message.height), int(message.width)
+    try:
+        with PILImage.open(BytesIO(bytes(message.data))) as image:
+            return image.height, image.width
+    except READ_ERRORS:
+        return None
 
 
 def _pick(what: str, named: str | None, candidates: list[str], flag: str) -> str:
