@@ -9,6 +9,7 @@ shortest arc) and never extrapolated; a static one holds at every time.
 
 from __future__ import annotations
 
+import bisect
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -57,12 +58,20 @@ def matrix(translation: F64, quaternion: F64) -> F64:
 
 @dataclass
 class _Edge:
-    """A child frame's transform into its parent: its samples (time, translation, quaternion)."""
+    """A child frame's transform into its parent: its samples (time, translation, quaternion),
+    and their times apart, kept in order for a binary search."""
 
     parent: str
     static: bool
     samples: list[tuple[float, F64, F64]] = field(default_factory=list)
+    times: list[float] = field(default_factory=list)
     _sorted: bool = True
+
+    def add(self, t: float, translation: F64, quaternion: F64) -> None:
+        if self.times and t < self.times[-1]:
+            self._sorted = False
+        self.samples.append((t, translation, quaternion))
+        self.times.append(t)
 
     def at(self, t: float, child: str) -> F64:
         if self.static:
@@ -70,9 +79,10 @@ class _Edge:
             return matrix(translation, quaternion)
         if not self._sorted:
             self.samples.sort(key=lambda s: s[0])
+            self.times = [s[0] for s in self.samples]
             self._sorted = True
-        times = [s[0] for s in self.samples]
-        k = int(np.searchsorted(times, t, side="left"))
+        times = self.times
+        k = bisect.bisect_left(times, t)
         if k < len(times) and times[k] == t:
             return matrix(self.samples[k][1], self.samples[k][2])
         if k == 0 or k == len(times):
@@ -110,9 +120,7 @@ class TransformTree:
             edge = self.edges[child] = _Edge(parent, static)
         elif edge.parent != parent:
             raise ValueError(f"frame {child} has two parents, {edge.parent} and {parent}")
-        if edge.samples and t < edge.samples[-1][0]:
-            edge._sorted = False
-        edge.samples.append((float(t), translation, quaternion))
+        edge.add(float(t), translation, quaternion)
 
     def __contains__(self, frame: str) -> bool:
         return frame in self.edges or any(e.parent == frame for e in self.edges.values())
