@@ -443,3 +443,30 @@ def test_camera_info_gives_the_intrinsics_and_refuses_a_distortion_it_cannot_mod
         intrinsics(info("rational_polynomial", [0.1, 0, 0, 0, 0, 0.2, 0, 0]))
     with pytest.raises(ValueError, match="not a 3x3 camera matrix's 9"):
         intrinsics(info("plumb_bob", [], k=(500.0, 320.0)))
+
+
+def test_a_live_nodes_messages_convert_as_a_bags_do():
+    # rclpy's messages carry no rosbags type name and hold their pixels as bytes: the converters
+    # read them by their fields. Big-endian depth, and row padding, as a driver may send them.
+    from types import SimpleNamespace
+
+    from torsocast.sources.rosbag import colour_image, depth_image
+
+    rgb = np.arange(2 * 3 * 3, dtype=np.uint8).reshape(2, 3, 3)
+    padded = np.zeros((2, 11), np.uint8)
+    padded[:, :9] = rgb[..., ::-1].reshape(2, 9)
+    bgr = SimpleNamespace(encoding="bgr8", height=2, width=3, step=11, is_bigendian=0, data=padded.tobytes())
+    np.testing.assert_array_equal(colour_image(bgr), rgb)
+    mm = np.array([[1000, 0, 2500], [65535, 1, 42]], dtype=">u2")
+    depth = SimpleNamespace(encoding="16UC1", height=2, width=3, step=6, is_bigendian=1, data=mm.tobytes())
+    np.testing.assert_allclose(depth_image(depth), mm.astype(np.float32) / 1000)
+    encoded = BytesIO()
+    PILImage.fromarray(np.full((4, 4, 3), 200, np.uint8)).save(encoded, "PNG")
+    png = SimpleNamespace(format="png", data=encoded.getvalue())
+    np.testing.assert_array_equal(colour_image(png), np.full((4, 4, 3), 200, np.uint8))
+    with pytest.raises(ValueError, match="depth encoding 'png' is not one of 16UC1"):
+        depth_image(png)
+    with pytest.raises(ValueError, match="does not hold 2 rows of 9"):
+        colour_image(
+            SimpleNamespace(encoding="rgb8", height=2, width=3, step=9, is_bigendian=0, data=bytes(10))
+        )

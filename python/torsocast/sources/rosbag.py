@@ -66,9 +66,15 @@ def stamp(message: Any) -> float:
     return float(t.sec) + 1e-9 * float(t.nanosec)
 
 
+def _compressed(message: Any) -> bool:
+    """Whether an image message is a CompressedImage (it has a ``format``, not an ``encoding``):
+    told by its fields, so that a live node's messages (rclpy's) convert as a bag's do."""
+    return not hasattr(message, "encoding")
+
+
 def colour_image(message: Any) -> npt.NDArray[np.uint8]:
     """An ``(h, w, 3)`` RGB image from a colour Image or CompressedImage message."""
-    if message.__msgtype__ == COMPRESSED:
+    if _compressed(message):
         with PILImage.open(BytesIO(bytes(message.data))) as image:
             return np.asarray(image.convert("RGB"))
     if message.encoding not in COLOUR_ENCODINGS:
@@ -83,8 +89,8 @@ def colour_image(message: Any) -> npt.NDArray[np.uint8]:
 
 def depth_image(message: Any) -> npt.NDArray[np.float32]:
     """An ``(h, w)`` depth image in metres, 0 where there is no reading, from a depth Image message."""
-    if message.__msgtype__ != IMAGE or message.encoding not in DEPTH_ENCODINGS:
-        got = message.encoding if message.__msgtype__ == IMAGE else message.format
+    if _compressed(message) or message.encoding not in DEPTH_ENCODINGS:
+        got = message.format if _compressed(message) else message.encoding
         raise ValueError(f"depth encoding {got!r} is not one of {', '.join(DEPTH_ENCODINGS)}")
     dtype = np.dtype(np.float32 if message.encoding == "32FC1" else np.uint16)
     raw = _rows(message, dtype.newbyteorder(">" if message.is_bigendian else "<"), 1)[..., 0]
@@ -97,7 +103,7 @@ def _rows(message: Any, dtype: np.dtype, channels: int) -> npt.NDArray[Any]:  # 
     """The pixels of an Image message, ``(h, w, channels)``, its rows' padding (``step``) dropped."""
     h, w, step = int(message.height), int(message.width), int(message.step)
     row = w * channels * dtype.itemsize
-    data = np.asarray(message.data, dtype=np.uint8)
+    data = np.frombuffer(message.data, dtype=np.uint8)  # a bag's array, or rclpy's bytes
     if step < row or len(data) < h * step:
         raise ValueError(f"image data of {len(data)} bytes does not hold {h} rows of {row} (step {step})")
     rows = data[: h * step].reshape(h, step)[:, :row]
@@ -271,13 +277,13 @@ class RosBag:
 
 
 def _is_colour(message: Any) -> bool:
-    if message.__msgtype__ == COMPRESSED:
+    if _compressed(message):
         return "compressedDepth" not in message.format
     return message.encoding in COLOUR_ENCODINGS
 
 
 def _is_depth(message: Any) -> bool:
-    return message.__msgtype__ == IMAGE and message.encoding in DEPTH_ENCODINGS
+    return not _compressed(message) and message.encoding in DEPTH_ENCODINGS
 
 
 def _depth_topic(first: dict[str, Any], colour: str, named: str | None) -> str:
@@ -301,7 +307,7 @@ def _depth_topic(first: dict[str, Any], colour: str, named: str | None) -> str:
 def _size(message: Any) -> tuple[int, int] | None:
     """The (height, width) of a colour image message; None for a compressed one that does not
     decode (its frame is skipped when read)."""
-    if message.__msgtype__ == IMAGE:
+    if not _compressed(message):
         return int(message.height), int(message.width)
     try:
         with PILImage.open(BytesIO(bytes(message.data))) as image:
