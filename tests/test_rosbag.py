@@ -70,6 +70,11 @@ def test_a_dynamic_transform_is_interpolated_as_scipy_slerps_it():
         tree.add("camera", "world", 0.1, np.zeros(3), np.array([0, 0, 0, 1.0]), static=True)
     with pytest.raises(ValueError, match="not a unit quaternion"):
         tree.add("world", "d", 0.1, np.zeros(3), np.zeros(4), static=True)
+    # A frame whose transforms were not kept is in the tree's shape, and not looked up.
+    tree.connect("camera", "lens")
+    assert "lens" in tree and tree.root("lens") == "world"
+    with pytest.raises(TransformLookupError, match="the transform from lens to camera was not kept"):
+        tree.lookup("world", "lens", 0.2)
 
 
 def read(source) -> list[Frame]:
@@ -176,7 +181,10 @@ def write_bag(
     for t in np.arange(start - 0.1, EPOCH + frames[-1].time + 0.1, 0.02):
         moved = robot.copy()
         moved[:3, 3] += np.asarray(drive) * (t - start)
-        drives.append((t, T["tf2_msgs/msg/TFMessage"](transforms=[transform(t, "odom", "base_link", moved)])))
+        wheel = np.eye(4)
+        wheel[:3, :3] = Rotation.from_euler("y", 5.0 * (t - start)).as_matrix()  # a joint on /tf too
+        robot_now = [transform(t, "odom", "base_link", moved), transform(t, "base_link", "wheel", wheel)]
+        drives.append((t, T["tf2_msgs/msg/TFMessage"](transforms=robot_now)))
     messages.append(("/tf", "tf2_msgs/msg/TFMessage", drives))
     pictures = []
     depths = []
@@ -219,6 +227,8 @@ def test_a_bag_gives_back_the_frames_it_was_written_from(frames, tmp_path, ros):
 def test_a_driving_robot_places_its_camera_where_the_transforms_put_it_at_each_stamp(frames, tmp_path):
     drive = np.array([0.5, -0.2, 0.0])
     bag = RosBag(write_bag(tmp_path / "drive", frames, drive=drive))
+    # The wheel's transforms are known to the tree's shape, and not kept: not the camera's chain.
+    assert "wheel" in bag.tree and set(bag.tree.edges) == {"base_link", "camera_color_optical_frame"}
     for got, made in zip(read(bag), frames):
         assert got.camera is not None and made.camera is not None
         expected = np.array(made.camera.camera_to_world)

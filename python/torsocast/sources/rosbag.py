@@ -43,6 +43,8 @@ DEPTH_ENCODINGS = {"16UC1": 0.001, "mono16": 0.001, "32FC1": 1.0}
 #: received, not stamped. Also how many depth images are kept to pair with.
 LOOKAHEAD = 8
 
+F64 = npt.NDArray[np.float64]
+
 
 def _reader(path: Path) -> tuple[Any, type[Exception]]:
     """A reader of the bag at ``path``, and the error its messages raise when they do not decode."""
@@ -170,19 +172,19 @@ class RosBag:
                 if message is None:
                     raise ValueError(f"topic {info} holds no camera info")
                 self.intrinsics = intrinsics(message)
-                self.tree = self._transforms(bag)
+                self.camera_frame = str(first[self.color_topic].header.frame_id).lstrip("/")
+                self.tree = self._transforms(bag, self.camera_frame, world_frame)
                 self.frames = sum(c.msgcount for c in bag.connections if c.topic == self.color_topic)
         except (KeyError, AttributeError) as e:
             raise ValueError(f"{self.path}: a message of an unexpected shape ({e})") from e
         except (ValueError, self._bad_message) as e:
             raise ValueError(f"{self.path}: {e}") from e
-        self.camera_frame = str(first[self.color_topic].header.frame_id).lstrip("/")
         self.world_frame = self._world(world_frame)
 
     def _world(self, named: str | None) -> str | None:
         """The frame the camera is placed in: the one named, else odom, else the camera's root;
         None where the bag has no transforms. Refused where the camera's frame is not below it."""
-        if not self.tree.edges:
+        if not self.tree.parents:
             if named is not None:
                 raise ValueError(f"{self.path}: the bag has no transforms to place the camera in {named!r}")
             return None
@@ -202,14 +204,31 @@ class RosBag:
             return self.reader.deserialize(raw, conn.msgtype)
         return None
 
-    def _transforms(self, bag: Any) -> TransformTree:
+    def _transforms(self, bag: Any, camera: str, world: str | None) -> TransformTree:
+        """The bag's transform tree: its whole shape, and the samples of the transforms above the
+        camera's frame and above ``world`` (else odom) alone, for a robot's ``/tf`` carries every
+        joint it has, many times a second."""
         tree = TransformTree()
+        for parent, child, *_ in self._tf(bag):
+            tree.connect(parent, child)
+        kept = set(tree.ancestors(camera)) | set(tree.ancestors(world or "odom"))
+        for parent, child, t, translation, quaternion, static in self._tf(bag):
+            if child in kept:
+                tree.add(parent, child, t, translation, quaternion, static)
+        return tree
+
+    @staticmethod
+    def _tf(
+        bag: Any,
+    ) -> Iterator[tuple[str, str, float, npt.NDArray[np.float64], npt.NDArray[np.float64], bool]]:
+        """Every transform on ``/tf`` and ``/tf_static``: parent, child, stamp, translation,
+        quaternion ``[x, y, z, w]``, and whether static."""
         for conn in [c for c in bag.connections if c.msgtype == TF]:
             static = conn.topic.endswith("tf_static")
             for _, _, raw in bag.messages(connections=[conn]):
                 for tf in bag.deserialize(raw, conn.msgtype).transforms:
                     p, q = tf.transform.translation, tf.transform.rotation
-                    tree.add(
+                    yield (
                         tf.header.frame_id.lstrip("/"),
                         tf.child_frame_id.lstrip("/"),
                         stamp(tf),
@@ -217,7 +236,6 @@ class RosBag:
                         np.array([q.x, q.y, q.z, q.w]),
                         static,
                     )
-        return tree
 
     def camera(self, t: float) -> Camera:
         """The colour camera at time ``t``: placed in the world frame by the transforms, or level

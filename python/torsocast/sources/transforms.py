@@ -97,14 +97,28 @@ class _Edge:
 
 @dataclass
 class TransformTree:
-    """Transforms between frames, each child frame with one parent (see the module's docstring)."""
+    """Transforms between frames, each child frame with one parent (see the module's docstring).
+    The tree's shape (``parents``) may hold frames whose transforms were not kept (:meth:`connect`:
+    a robot's every joint, where only the camera's chain is wanted)."""
 
+    parents: dict[str, str] = field(default_factory=dict)
     edges: dict[str, _Edge] = field(default_factory=dict)
+
+    def connect(self, parent: str, child: str) -> None:
+        """``child`` hangs from ``parent``, its transform not (yet) given. Refuses a frame given a
+        second parent, and a frame its own ancestor."""
+        known = self.parents.get(child)
+        if known is None:
+            if parent == child or child in self.ancestors(parent):
+                raise ValueError(f"the transform from {child} to {parent} closes a loop in the tree")
+            self.parents[child] = parent
+        elif known != parent:
+            raise ValueError(f"frame {child} has two parents, {known} and {parent}")
 
     def add(self, parent: str, child: str, t: float, translation: F64, quaternion: F64, static: bool) -> None:
         """A sample of ``child``'s pose in ``parent`` at ``t`` (maps ``child`` coordinates into
-        ``parent``'s). Refuses a frame given a second parent, a frame its own ancestor, and a
-        transform that is not finite or whose quaternion is not a rotation."""
+        ``parent``'s). Refuses what :meth:`connect` refuses, and a transform that is not finite
+        or whose quaternion is not a rotation."""
         translation, quaternion = np.asarray(translation, float), np.asarray(quaternion, float)
         if not (np.isfinite(translation).all() and np.isfinite(quaternion).all() and np.isfinite(t)):
             raise ValueError(f"the transform from {child} to {parent} at {t} s is not finite")
@@ -113,39 +127,39 @@ class TransformTree:
                 f"the transform from {child} to {parent} at {t} s has rotation {quaternion.tolist()}, "
                 "not a unit quaternion [x, y, z, w]"
             )
-        edge = self.edges.get(child)
-        if edge is None:
-            if parent == child or child in self._ancestors(parent):
-                raise ValueError(f"the transform from {child} to {parent} closes a loop in the tree")
-            edge = self.edges[child] = _Edge(parent, static)
-        elif edge.parent != parent:
-            raise ValueError(f"frame {child} has two parents, {edge.parent} and {parent}")
+        self.connect(parent, child)
+        edge = self.edges.setdefault(child, _Edge(parent, static))
         edge.add(float(t), translation, quaternion)
 
     def __contains__(self, frame: str) -> bool:
-        return frame in self.edges or any(e.parent == frame for e in self.edges.values())
+        return frame in self.parents or frame in self.parents.values()
 
-    def _ancestors(self, frame: str) -> list[str]:
+    def ancestors(self, frame: str) -> list[str]:
         """``frame``, its parent, its parent's parent, ... up to its tree's root."""
         chain = [frame]
-        while chain[-1] in self.edges:
-            chain.append(self.edges[chain[-1]].parent)
+        while chain[-1] in self.parents:
+            chain.append(self.parents[chain[-1]])
         return chain
 
     def root(self, frame: str) -> str:
         """The frame at the top of ``frame``'s tree."""
-        return self._ancestors(frame)[-1]
+        return self.ancestors(frame)[-1]
 
     def lookup(self, target: str, source: str, t: float) -> F64:
         """The 4x4 transform that maps ``source`` coordinates into ``target``'s at time ``t``."""
-        up_source, up_target = self._ancestors(source), self._ancestors(target)
+        up_source, up_target = self.ancestors(source), self.ancestors(target)
         common = next((f for f in up_source if f in up_target), None)
         if common is None:
             raise TransformLookupError(f"frames {source} and {target} are not connected by the transforms")
-        out = np.eye(4)
+        out, back = np.eye(4), np.eye(4)
         for frame in up_source[: up_source.index(common)]:  # source -> common
-            out = self.edges[frame].at(t, frame) @ out
-        back = np.eye(4)
+            out = self._edge(frame).at(t, frame) @ out
         for frame in up_target[: up_target.index(common)]:  # target -> common
-            back = self.edges[frame].at(t, frame) @ back
+            back = self._edge(frame).at(t, frame) @ back
         return np.linalg.inv(back) @ out  # type: ignore[no-any-return]
+
+    def _edge(self, child: str) -> _Edge:
+        edge = self.edges.get(child)
+        if edge is None:
+            raise TransformLookupError(f"the transform from {child} to {self.parents[child]} was not kept")
+        return edge
