@@ -71,8 +71,8 @@ class TopDown:
         """The plot, ``size`` pixels square. Headings are drawn every ``every`` seconds; the last
         forecast of each track is drawn in full (a dashed line to each horizon, with its heading),
         earlier ones as a faint dot at the last horizon; where a track put its person while unseen,
-        as rings. ``truth (n, 2+)`` is drawn as a grey
-        path underneath (for data with ground truth, like the demo)."""
+        as rings. ``truth (n, 2+)`` is drawn as a grey path underneath (for data with ground
+        truth, like the demo)."""
         paths = [np.array(h.poses)[:, :2] for h in self.tracks.values() if h.poses]
         paths += [f[-1:, :2] for h in self.tracks.values() for _, f in h.forecasts[-1:]]
         paths += [np.array([p for _, p in h.unseen])[:, :2] for h in self.tracks.values() if h.unseen]
