@@ -167,6 +167,12 @@ def test_a_frame_stamped_an_hour_ahead_costs_one_restart_not_the_following_hour(
     stamped = frames[:8] + [dataclasses.replace(frames[8], time=3600.0)] + frames[9:]
     summary = run(Replay(stamped), open_model(None), tmp_path, progress=False)
     assert summary.frames == 20 and summary.rejected == 0
+    # What each frame waited, beside the mean per stage: ordered, the largest at least the mean
+    # wait, which the stages' means add up to.
+    assert summary.latency_ms is not None
+    median, p95, most = summary.latency_ms
+    assert 0 < median <= p95 <= most and most >= sum(summary.stages_ms.values())
+    assert f"latency median {median:.2f}, 95th percentile {p95:.2f}, largest {most:.2f} ms" in str(summary)
     err = capsys.readouterr().err
     assert "frame 9" in err and "tracking starts again" in err
     records = [json.loads(line) for line in (tmp_path / "frames.jsonl").read_text().splitlines()]

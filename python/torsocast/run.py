@@ -11,6 +11,8 @@ from contextlib import nullcontext
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from ._core import TimeNotIncreasingError
 from .avi import AviWriter
 from .keypoints import KeypointModel
@@ -33,6 +35,10 @@ class Summary:
     """Frames left out: their time stamp did not increase, or the model's output was unusable."""
     unreadable: int = 0
     """Frames the source could not read (corrupt or missing files): reported and skipped."""
+    latency_ms: tuple[float, float, float] | None = None
+    """Median, 95th percentile and largest time from a frame handed to the pipeline to its result
+    (the model, lifting, tracking and forecasting; not reading or writing), ms; None without a
+    frame. What a robot waits, beside the mean per stage."""
 
     @property
     def fps(self) -> float:
@@ -47,9 +53,13 @@ class Summary:
         )
         if self.unreadable:
             rejected += f" ({self.unreadable} unreadable, skipped)"
+        latency = ""
+        if self.latency_ms is not None:
+            median, p95, most = self.latency_ms
+            latency = f"; latency median {median:.2f}, 95th percentile {p95:.2f}, largest {most:.2f} ms"
         return (
             f"{self.frames} frames{rejected} in {self.seconds:.1f} s ({self.fps:.1f} frames/s), "
-            f"{self.people} tracked people; per frame: {stages}"
+            f"{self.people} tracked people; per frame: {stages}{latency}"
         )
 
 
@@ -73,6 +83,7 @@ def run(
     bar = Progress(len(source), f"run {source.name}") if progress and len(source) else None
     ids: set[int] = set()
     rejected = unreadable = 0
+    latencies: list[float] = []
     start = time.perf_counter()
     movie = AviWriter(out / "overlay.avi") if video else None
     if overlay:
@@ -85,7 +96,9 @@ def run(
                 jsonl.skipped(frame)
                 continue
             try:
+                handed = time.perf_counter()
                 result = pipeline(frame)
+                latencies.append(time.perf_counter() - handed)
             except (TimeNotIncreasingError, BadFrameError) as e:
                 if not rejected:
                     print(f"frame {frame.index} left out: {e}", file=sys.stderr)
@@ -113,4 +126,8 @@ def run(
             if bar:
                 bar(f"{len(result.detections)} people")
     seconds = time.perf_counter() - start
-    return Summary(pipeline.frames, seconds, pipeline.timing(), len(ids), out, rejected, unreadable)
+    latency = None
+    if latencies:
+        median, p95, most = np.percentile(1e3 * np.array(latencies), [50, 95, 100])
+        latency = (float(median), float(p95), float(most))
+    return Summary(pipeline.frames, seconds, pipeline.timing(), len(ids), out, rejected, unreadable, latency)
