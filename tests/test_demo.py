@@ -248,6 +248,7 @@ def test_demo_runs_on_bundled_data_and_matches_the_truth(tmp_path, capsys):
     # reported azimuth and elevation, the frame named after the track.
     framed = [p for line in lines for p in line["people"] if p["id"] is not None and p["centre"]]
     assert len(framed) > 80 and all(p["body_frame"]["child_frame_id"] == f"body_{p['id']}" for p in framed)
+    assert all(p["body_frame"]["frame_id"] == "world" for p in framed)  # a source that names none
     for p in framed:
         x_axis = Rotation.from_quat(p["body_frame"]["rotation"]).apply([1.0, 0.0, 0.0])
         az, el = p["azimuth"], p["elevation"]

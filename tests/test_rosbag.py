@@ -285,7 +285,8 @@ def test_a_colour_image_without_a_depth_image_near_it_is_a_colour_only_frame(fra
 
 
 def test_a_bag_runs_as_its_frames_do(frames, tmp_path, capsys):
-    # `torsocast run` on the bag writes what a run on the same frames (depth in mm) writes.
+    # `torsocast run` on the bag writes what a run on the same frames (depth in mm) writes, but
+    # for the world frame's name.
     from torsocast.sources.recording import write
 
     path = write_bag(tmp_path / "walk", frames)
@@ -299,9 +300,12 @@ def test_a_bag_runs_as_its_frames_do(frames, tmp_path, capsys):
     for source, out in ((path, "bag"), (tmp_path / "walk.npz", "npz")):
         assert main(["run", str(source), "--out", str(tmp_path / out)]) == 0
     capsys.readouterr()
+    text = {out: (tmp_path / out / "frames.jsonl").read_text() for out in ("bag", "npz")}
+    # The bag names its world frame (odom); the recording does not.
+    assert '"frame_id": "odom"' in text["bag"] and '"frame_id": "odom"' not in text["npz"]
     lines = {
-        out: [json.loads(line) for line in (tmp_path / out / "frames.jsonl").read_text().splitlines()]
-        for out in ("bag", "npz")
+        out: [json.loads(line) for line in text[out].replace('"odom"', '"world"').splitlines()]
+        for out in text
     }
     tracked = [p for line in lines["bag"] for p in line["people"] if p["id"] is not None]
     assert len(tracked) >= len(frames) - 3 and lines["bag"] == lines["npz"]
@@ -356,6 +360,7 @@ def test_the_body_frames_are_written_as_a_ros_bag_that_reads_back_as_the_json_li
         stamp = int(round(line["time"] * 1e9))
         people = [p for p in line["people"] if p.get("body_frame")]
         frames_now = [p["body_frame"] for p in people] + [u["body_frame"] for u in line["unseen"]]
+        assert {f["frame_id"] for f in frames_now} <= {"odom"}  # the source bag's world frame
         expected[stamp] = {f["child_frame_id"]: f for f in frames_now}
         shown[stamp] = [str(p["id"]) for p in people]
         for p in people:

@@ -250,7 +250,7 @@ def _eval_compare(args: argparse.Namespace) -> int:
 def _run(args: argparse.Namespace) -> int:
     from .keypoints import open_model
     from .run import run
-    from .sources import BagTopics, open_source
+    from .sources import BagTopics, open_source, world_frame_of
 
     horizons = _horizons(args.horizons)
     if horizons is None:
@@ -276,8 +276,7 @@ def _run(args: argparse.Namespace) -> int:
         from .rosout import BodyBag
 
         try:
-            world = getattr(source, "world_frame", None) or "world"
-            bag = BodyBag(Path(args.out) / "bodies", horizons, world, replace=True)
+            bag = BodyBag(Path(args.out) / "bodies", horizons, world_frame_of(source), replace=True)
         except (ImportError, FileExistsError) as e:
             print(f"torsocast run: {e}", file=sys.stderr)
             return 2

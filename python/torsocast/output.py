@@ -16,7 +16,7 @@ import numpy as np
 
 from ._core import InvalidArgumentError, NonFiniteError, body_frame
 from .pipeline import FrameResult
-from .sources import SkippedFrame
+from .sources import WORLD_FRAME, SkippedFrame
 
 SCHEMA = "torsocast.frame/1"
 
@@ -32,8 +32,8 @@ def _clean(values: Any, digits: int = 4) -> Any:
     return values
 
 
-def record(result: FrameResult, horizons: Sequence[float]) -> dict[str, Any]:
-    """The JSON object of one frame."""
+def record(result: FrameResult, horizons: Sequence[float], world_frame: str = WORLD_FRAME) -> dict[str, Any]:
+    """The JSON object of one frame, its body frames' parent ``world_frame``."""
     det = result.detections
     people = []
     for i in range(len(det)):
@@ -64,7 +64,7 @@ def record(result: FrameResult, horizons: Sequence[float]) -> dict[str, Any]:
                     grid=obs.grid,
                 )
                 if obs.pose is not None and outcome.track_id is not None:
-                    person["body_frame"] = _body_frame(outcome.track_id, obs.pose)
+                    person["body_frame"] = _body_frame(outcome.track_id, obs.pose, world_frame)
             ahead = result.forecasts.get(i)
             spread = result.intervals.get(i)
             person["forecast"] = (
@@ -86,7 +86,7 @@ def record(result: FrameResult, horizons: Sequence[float]) -> dict[str, Any]:
             "last_time": _clean(track.last_time, 6),
             "pose": _clean(track.pose),
             "half_width80": _clean(track.half_width80),
-            "body_frame": None if track.pose is None else _body_frame(track.id, track.pose),
+            "body_frame": None if track.pose is None else _body_frame(track.id, track.pose, world_frame),
         }
         for track in result.unseen
     ]
@@ -109,13 +109,15 @@ def body_frame_of(pose: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
         return None
 
 
-def _body_frame(track_id: int, pose: np.ndarray) -> dict[str, Any] | None:
-    """The body frame ``body_<id>`` of a pose as a JSON object (:func:`body_frame_of`)."""
+def _body_frame(track_id: int, pose: np.ndarray, world_frame: str) -> dict[str, Any] | None:
+    """The body frame ``body_<id>`` of a pose as a JSON object (:func:`body_frame_of`), in
+    ``world_frame``."""
     frame = body_frame_of(pose)
     if frame is None:
         return None
     translation, rotation = frame
     return {
+        "frame_id": world_frame,
         "child_frame_id": f"body_{track_id}",
         "translation": _clean(translation),
         "rotation": _clean(rotation, 6),
@@ -125,9 +127,10 @@ def _body_frame(track_id: int, pose: np.ndarray) -> dict[str, Any] | None:
 class JsonLines:
     """Writes one :func:`record` per line to ``path`` (a context manager)."""
 
-    def __init__(self, path: str | Path, horizons: Sequence[float]) -> None:
+    def __init__(self, path: str | Path, horizons: Sequence[float], world_frame: str = WORLD_FRAME) -> None:
         self.path = Path(path)
         self.horizons = list(horizons)
+        self.world_frame = world_frame
         self.file: IO[str] | None = None
 
     def __enter__(self) -> JsonLines:
@@ -137,7 +140,7 @@ class JsonLines:
 
     def write(self, result: FrameResult) -> None:
         assert self.file is not None, "use JsonLines as a context manager"
-        self.file.write(json.dumps(record(result, self.horizons), allow_nan=False) + "\n")
+        self.file.write(json.dumps(record(result, self.horizons, self.world_frame), allow_nan=False) + "\n")
 
     def skipped(self, frame: SkippedFrame) -> None:
         """The line of a frame the source could not read: no people, and why."""

@@ -22,6 +22,7 @@ from typing import Any
 
 from .output import body_frame_of
 from .pipeline import FrameResult
+from .sources import WORLD_FRAME
 
 TF_TOPIC, TRACKED_TOPIC, FORECAST_TOPIC = "/tf", "/humans/bodies/tracked", "/humans/bodies/{id}/forecast"
 TF_MESSAGE, IDS_LIST, PATH = "tf2_msgs/msg/TFMessage", "hri_msgs/msg/IdsList", "nav_msgs/msg/Path"
@@ -43,7 +44,7 @@ class BodyBag:
         self,
         path: str | Path,
         horizons: Sequence[float],
-        world_frame: str = "world",
+        world_frame: str = WORLD_FRAME,
         replace: bool = False,
     ) -> None:
         try:

@@ -20,7 +20,7 @@ from .output import JsonLines
 from .overlay import draw
 from .pipeline import HORIZONS, BadFrameError, FrameResult, Pipeline
 from .progress import Progress
-from .sources import SkippedFrame, Source
+from .sources import SkippedFrame, Source, world_frame_of
 
 
 @dataclass
@@ -88,7 +88,7 @@ def run(
     movie = AviWriter(out / "overlay.avi") if video else None
     if overlay:
         (out / "overlay").mkdir(parents=True, exist_ok=True)
-    with JsonLines(out / "frames.jsonl", horizons) as jsonl, movie or nullcontext():
+    with JsonLines(out / "frames.jsonl", horizons, world_frame_of(source)) as jsonl, movie or nullcontext():
         for frame in source:
             if isinstance(frame, SkippedFrame):
                 print(f"frame {frame.index} skipped: {frame.reason}", file=sys.stderr)

@@ -13,6 +13,14 @@ from .rosbag import BagTopics, RosBag
 from .video import VideoFile
 
 VIDEO_SUFFIXES = (".mp4", ".avi", ".mov", ".mkv", ".webm")
+#: The name of the fixed frame the camera is placed in, where a source names none.
+WORLD_FRAME = "world"
+
+
+def world_frame_of(source: Source) -> str:
+    """The name of the fixed frame ``source`` places its camera in (``camera_to_world``): a ROS
+    bag's (``odom``, say), else :data:`WORLD_FRAME`."""
+    return getattr(source, "world_frame", None) or WORLD_FRAME
 
 
 def open_source(path: str | Path, fps: float = 30.0, bag: BagTopics | None = None) -> Source:
@@ -52,5 +60,7 @@ __all__ = [
     "Source",
     "TumFolder",
     "VideoFile",
+    "WORLD_FRAME",
     "open_source",
+    "world_frame_of",
 ]
