@@ -127,7 +127,8 @@ def write_bag(
         writer, serialize = Writer1(path), store.serialize_ros1
 
     def header(t, frame="camera_color_optical_frame"):
-        time = T["builtin_interfaces/msg/Time"](sec=int(t), nanosec=int(round((t % 1) * 1e9)) % 10**9)
+        seconds, nanoseconds = divmod(int(round(t * 1e9)), 10**9)
+        time = T["builtin_interfaces/msg/Time"](sec=seconds, nanosec=nanoseconds)
         fields = {"seq": 0} if ros == 1 else {}
         return T["std_msgs/msg/Header"](**fields, stamp=time, frame_id=frame)
 
