@@ -323,7 +323,9 @@ def test_a_bags_topics_are_named_where_it_has_several_and_a_bad_image_is_skipped
     extra = [(compressed, "sensor_msgs/msg/CompressedImage", [(EPOCH + 1, broken)])]
     path = write_bag(tmp_path / "two", frames, extra=extra)
     topics = rf"2 colour image topics \(/camera/color/image_raw, {compressed}\)"
-    with pytest.raises(ValueError, match=rf"{topics}: name one with --color-topic"):
+    with pytest.raises(
+        ValueError, match=rf"{topics}: name one with --color-topic \(color_topic= in Python\)"
+    ):
         RosBag(path)
     with pytest.raises(ValueError, match="/nope is not a colour image topic"):
         RosBag(path, color_topic="/nope")

@@ -343,5 +343,9 @@ def _pick(what: str, named: str | None, candidates: list[str], flag: str) -> str
         return named
     if len(candidates) != 1:
         found = ", ".join(candidates) or "none"
-        raise ValueError(f"the bag has {len(candidates)} {what} topics ({found}): name one with {flag}")
+        argument = flag.lstrip("-").replace("-", "_")
+        raise ValueError(
+            f"the bag has {len(candidates)} {what} topics ({found}): "
+            f"name one with {flag} ({argument}= in Python)"
+        )
     return candidates[0]
