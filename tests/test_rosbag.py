@@ -277,12 +277,15 @@ def test_a_drivers_compressed_copy_and_its_sensors_own_depth_are_passed_over(fra
         RosBag(path, depth_topic="/camera/depth/image_rect_raw")
 
 
-def test_a_colour_image_without_a_depth_image_near_it_is_a_colour_only_frame(frames, tmp_path):
+def test_a_colour_image_without_a_depth_image_near_it_is_a_colour_only_frame(frames, tmp_path, capsys):
     # Depth stamped 30 ms after each colour image at 10 frames/s: none within the 20 ms pairing.
     late = read(RosBag(write_bag(tmp_path / "late", frames[:5], depth_lag=0.03)))
     assert [f.depth for f in late] == [None] * 5
     near = read(RosBag(write_bag(tmp_path / "near", frames[:5], depth_lag=0.015)))
     assert [f.depth is None for f in near] == [False] * 5
+    # The run says so: its people are detected, not placed in 3D.
+    assert main(["run", str(tmp_path / "late"), "--out", str(tmp_path / "out")]) == 0
+    assert "5 frames (5 without depth: people detected, not placed in 3D)" in capsys.readouterr().out
 
 
 def test_a_bag_runs_as_its_frames_do(frames, tmp_path, capsys):

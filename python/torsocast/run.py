@@ -35,6 +35,9 @@ class Summary:
     """Frames left out: their time stamp did not increase, or the model's output was unusable."""
     unreadable: int = 0
     """Frames the source could not read (corrupt or missing files): reported and skipped."""
+    without_depth: int = 0
+    """Frames given with no depth image (a colour-only source; a bag's colour image with no depth
+    image near it): their people were detected, not placed in 3D."""
     latency_ms: tuple[float, float, float] | None = None
     """Median, 95th percentile and largest time from a frame handed to the pipeline to its result
     (the model, lifting, tracking and forecasting; not reading or writing), ms; None without a
@@ -53,6 +56,8 @@ class Summary:
         )
         if self.unreadable:
             rejected += f" ({self.unreadable} unreadable, skipped)"
+        if self.without_depth:
+            rejected += f" ({self.without_depth} without depth: people detected, not placed in 3D)"
         latency = ""
         if self.latency_ms is not None:
             median, p95, most = self.latency_ms
@@ -82,7 +87,7 @@ def run(
     pipeline = Pipeline(model, horizons)
     bar = Progress(len(source), f"run {source.name}") if progress and len(source) else None
     ids: set[int] = set()
-    rejected = unreadable = 0
+    rejected = unreadable = without_depth = 0
     latencies: list[float] = []
     start = time.perf_counter()
     movie = AviWriter(out / "overlay.avi") if video else None
@@ -99,6 +104,7 @@ def run(
                 handed = time.perf_counter()
                 result = pipeline(frame)
                 latencies.append(time.perf_counter() - handed)
+                without_depth += frame.depth is None
             except (TimeNotIncreasingError, BadFrameError) as e:
                 if not rejected:
                     print(f"frame {frame.index} left out: {e}", file=sys.stderr)
@@ -130,4 +136,14 @@ def run(
     if latencies:
         median, p95, most = np.percentile(1e3 * np.array(latencies), [50, 95, 100])
         latency = (float(median), float(p95), float(most))
-    return Summary(pipeline.frames, seconds, pipeline.timing(), len(ids), out, rejected, unreadable, latency)
+    return Summary(
+        pipeline.frames,
+        seconds,
+        pipeline.timing(),
+        len(ids),
+        out,
+        rejected,
+        unreadable,
+        without_depth,
+        latency,
+    )
