@@ -100,6 +100,7 @@ def write_bag(
     depth_lag=0.003,
     mount="base_link",
     without_depth=(),
+    compressed_depth=False,
 ):
     """``frames`` as a robot records them: colour (``encoding``, rows padded) and registered
     depth in millimetres (stamped ``depth_lag`` s later) in the RealSense driver's topics, its
@@ -107,7 +108,8 @@ def write_bag(
     robot in ``odom`` at 50 Hz (``/tf``), driving at ``drive`` m/s from the first frame's pose;
     a ROS 1 bag (``ros`` 1), or a ROS 2 one in SQLite (2) or MCAP storage. ``extra``: more
     (topic, message type, [(stamp, message)]) to record; the frames numbered in
-    ``without_depth`` have no depth image."""
+    ``without_depth`` have no depth image; with ``compressed_depth`` the depth is recorded as
+    image_transport's compressedDepth alone."""
     store = get_typestore(Stores.ROS1_NOETIC if ros == 1 else Stores.ROS2_HUMBLE)
     if ros == 1:  # Noetic's store lacks tf2's message; a ROS 1 bag carries its definition
         tf = "geometry_msgs/TransformStamped[] transforms"
@@ -194,10 +196,24 @@ def write_bag(
         pixels = f.color[..., ::-1] if encoding == "bgr8" else f.color
         pictures.append((t, image(t, np.ascontiguousarray(pixels), encoding)))
         mm = np.round(1000 * f.depth).astype(np.uint16)
-        if k not in without_depth:
+        if k in without_depth:
+            continue
+        if compressed_depth:
+            png = BytesIO()
+            PILImage.fromarray(mm).save(png, "PNG")
+            data = np.frombuffer(bytes(12) + png.getvalue(), np.uint8)
+            packed = T["sensor_msgs/msg/CompressedImage"](
+                header=header(t + depth_lag), format="16UC1; compressedDepth png", data=data
+            )
+            depths.append((t + depth_lag, packed))
+        else:
             depths.append((t + depth_lag, image(t + depth_lag, mm, "16UC1")))
     messages.append(("/camera/color/image_raw", "sensor_msgs/msg/Image", pictures))
-    messages.append(("/camera/aligned_depth_to_color/image_raw", "sensor_msgs/msg/Image", depths))
+    if compressed_depth:
+        topic = "/camera/aligned_depth_to_color/image_raw/compressedDepth"
+        messages.append((topic, "sensor_msgs/msg/CompressedImage", depths))
+    else:
+        messages.append(("/camera/aligned_depth_to_color/image_raw", "sensor_msgs/msg/Image", depths))
     messages.extend(extra)
     with writer:
         for topic, kind, stamped in messages:
@@ -225,6 +241,14 @@ def test_a_bag_gives_back_the_frames_it_was_written_from(frames, tmp_path, ros):
         np.testing.assert_allclose(got.camera.camera_to_world, made.camera.camera_to_world, atol=1e-9)
 
 
+def test_a_bags_compressed_depth_reads_as_its_raw_depth(frames, tmp_path):
+    bag = RosBag(write_bag(tmp_path / "packed", frames[:4], compressed_depth=True))
+    assert bag.depth_topic == "/camera/aligned_depth_to_color/image_raw/compressedDepth"
+    for got, made in zip(read(bag), frames):
+        assert got.depth is not None
+        np.testing.assert_allclose(got.depth, made.depth, atol=0.0005 + 1e-6)
+
+
 def test_a_driving_robot_places_its_camera_where_the_transforms_put_it_at_each_stamp(frames, tmp_path):
     drive = np.array([0.5, -0.2, 0.0])
     bag = RosBag(write_bag(tmp_path / "drive", frames, drive=drive))
@@ -238,8 +262,9 @@ def test_a_driving_robot_places_its_camera_where_the_transforms_put_it_at_each_s
 
 
 def test_a_drivers_compressed_copy_and_its_sensors_own_depth_are_passed_over(frames, tmp_path):
-    # As a RealSense driver records: the colour's JPEG copy beside the raw topic, and the depth
-    # sensor's own images (here half the colour's size) beside the ones registered to colour.
+    # As a RealSense driver records: the colour's JPEG copy beside the raw topic, the depth
+    # sensor's own images (here half the colour's size) beside the ones registered to colour,
+    # and a compressedDepth copy of those.
     T = get_typestore(Stores.ROS2_HUMBLE).types
     time = T["builtin_interfaces/msg/Time"](sec=int(EPOCH), nanosec=0)
     jpeg = BytesIO()
@@ -258,9 +283,21 @@ def test_a_drivers_compressed_copy_and_its_sensors_own_depth_are_passed_over(fra
         step=small.shape[1] * 2,
         data=small.view(np.uint8).ravel(),
     )
+    png = BytesIO()
+    PILImage.fromarray(np.zeros(frames[0].color.shape[:2], np.uint16)).save(png, "PNG")
+    data = np.frombuffer(bytes(12) + png.getvalue(), np.uint8)
+    packed = T["sensor_msgs/msg/CompressedImage"](
+        header=header, format="16UC1; compressedDepth png", data=data
+    )
     extra = [
         ("/camera/color/image_raw/compressed", "sensor_msgs/msg/CompressedImage", [(EPOCH, copy)]),
         ("/camera/depth/image_rect_raw", "sensor_msgs/msg/Image", [(EPOCH, own)]),
+        # The registered depth's compressedDepth copy too.
+        (
+            "/camera/aligned_depth_to_color/image_raw/compressedDepth",
+            "sensor_msgs/msg/CompressedImage",
+            [(EPOCH, packed)],
+        ),
     ]
     path = write_bag(tmp_path / "realsense", frames[:3], extra=extra)
     bag = RosBag(path)
@@ -485,8 +522,13 @@ def test_a_live_nodes_messages_convert_as_a_bags_do():
     PILImage.fromarray(np.full((4, 4, 3), 200, np.uint8)).save(encoded, "PNG")
     png = SimpleNamespace(format="png", data=encoded.getvalue())
     np.testing.assert_array_equal(colour_image(png), np.full((4, 4, 3), 200, np.uint8))
-    with pytest.raises(ValueError, match="depth encoding 'png' is not one of 16UC1"):
+    with pytest.raises(ValueError, match="depth format 'png' is not compressedDepth of 16UC1"):
         depth_image(png)
+    # image_transport's compressedDepth of 16UC1: a 12-byte header, then a PNG of the millimetres.
+    encoded = BytesIO()
+    PILImage.fromarray(mm.astype(np.uint16)).save(encoded, "PNG")
+    packed = SimpleNamespace(format="16UC1; compressedDepth png", data=bytes(12) + encoded.getvalue())
+    np.testing.assert_allclose(depth_image(packed), mm.astype(np.float32) / 1000)
     with pytest.raises(ValueError, match="does not hold 2 rows of 9"):
         colour_image(
             SimpleNamespace(encoding="rgb8", height=2, width=3, step=9, is_bigendian=0, data=bytes(10))

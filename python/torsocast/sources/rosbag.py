@@ -4,7 +4,8 @@
 What a robot records: a colour image topic (``sensor_msgs/Image`` in rgb8, bgr8, rgba8, bgra8 or
 mono8, or ``sensor_msgs/CompressedImage`` in JPEG or PNG), a depth image topic registered to it
 (``sensor_msgs/Image`` in 16UC1 millimetres or 32FC1 metres, as a RealSense's
-``aligned_depth_to_color`` or a Kinect's registered depth), the colour camera's
+``aligned_depth_to_color`` or a Kinect's registered depth, or image_transport's 16UC1
+``compressedDepth``), the colour camera's
 ``sensor_msgs/CameraInfo`` and the transforms (``/tf``, ``/tf_static``). Each colour image
 becomes a frame at its header's stamp, with the depth image nearest in time (within
 :data:`~.frame.PAIRING_TOLERANCE`; none nearer: a colour-only frame) and the camera's pose in the
@@ -19,7 +20,7 @@ where the bag has one candidate; where it has several, it must be named.
 from __future__ import annotations
 
 from collections import deque
-from collections.abc import Iterator
+from collections.abc import Collection, Iterator
 from dataclasses import dataclass
 from io import BytesIO
 from pathlib import Path
@@ -38,6 +39,9 @@ CAMERA_INFO, TF = "sensor_msgs/msg/CameraInfo", "tf2_msgs/msg/TFMessage"
 COLOUR_ENCODINGS = ("rgb8", "bgr8", "rgba8", "bgra8", "mono8")
 #: Depth encodings and their metres per unit.
 DEPTH_ENCODINGS = {"16UC1": 0.001, "mono16": 0.001, "32FC1": 1.0}
+#: Bytes before the PNG in image_transport's compressedDepth data (its ConfigHeader: the
+#: format, then two floats of 32FC1's inverse-depth quantisation, unused for 16UC1).
+COMPRESSED_DEPTH_HEADER = 12
 #: How many colour images wait, at most, for a depth image stamped at or after them before the
 #: oldest is paired with the nearest one so far: a bag's messages come in the order they were
 #: received, not stamped. Also how many depth images are kept to pair with.
@@ -90,13 +94,27 @@ def colour_image(message: Any) -> npt.NDArray[np.uint8]:
 
 
 def depth_image(message: Any) -> npt.NDArray[np.float32]:
-    """An ``(h, w)`` depth image in metres, 0 where there is no reading, from a depth Image message."""
-    if _compressed(message) or message.encoding not in DEPTH_ENCODINGS:
-        got = message.format if _compressed(message) else message.encoding
-        raise ValueError(f"depth encoding {got!r} is not one of {', '.join(DEPTH_ENCODINGS)}")
-    dtype = np.dtype(np.float32 if message.encoding == "32FC1" else np.uint16)
-    raw = _rows(message, dtype.newbyteorder(">" if message.is_bigendian else "<"), 1)[..., 0]
-    depth = raw.astype(np.float32) * np.float32(DEPTH_ENCODINGS[message.encoding])
+    """An ``(h, w)`` depth image in metres, 0 where there is no reading, from a depth Image
+    message or a 16UC1 ``compressedDepth`` one (image_transport's: a 12-byte header, then a PNG
+    of the millimetres)."""
+    if _compressed(message):
+        if not _is_depth(message):
+            raise ValueError(
+                f"depth format {message.format!r} is not compressedDepth of 16UC1 millimetres "
+                f"(nor an Image in one of {', '.join(DEPTH_ENCODINGS)})"
+            )
+        with PILImage.open(BytesIO(bytes(message.data)[COMPRESSED_DEPTH_HEADER:])) as image:
+            raw = np.asarray(image, dtype=np.uint16)
+        scale = DEPTH_ENCODINGS["16UC1"]
+    else:
+        if message.encoding not in DEPTH_ENCODINGS:
+            raise ValueError(
+                f"depth encoding {message.encoding!r} is not one of {', '.join(DEPTH_ENCODINGS)}"
+            )
+        dtype = np.dtype(np.float32 if message.encoding == "32FC1" else np.uint16)
+        raw = _rows(message, dtype.newbyteorder(">" if message.is_bigendian else "<"), 1)[..., 0]
+        scale = DEPTH_ENCODINGS[message.encoding]
+    depth = raw.astype(np.float32) * np.float32(scale)
     depth[~np.isfinite(depth) | (depth < 0)] = 0.0
     return depth
 
@@ -159,7 +177,7 @@ class RosBag:
                 colours = [t for t, m in first.items() if _is_colour(m)]
                 # image_transport's compressed copy of a raw topic the bag holds too: read the raw
                 # unless named.
-                raw = [t for t in colours if not (t.endswith("/compressed") and t[:-11] in colours)]
+                raw = [t for t in colours if not _copy(t, "/compressed", colours)]
                 self.color_topic = _pick(
                     "colour image", color_topic, colours if color_topic else raw, "--color-topic"
                 )
@@ -301,7 +319,9 @@ def _is_colour(message: Any) -> bool:
 
 
 def _is_depth(message: Any) -> bool:
-    return not _compressed(message) and message.encoding in DEPTH_ENCODINGS
+    if _compressed(message):  # image_transport's format: "16UC1; compressedDepth png"
+        return "compressedDepth" in message.format and any(e in message.format for e in ("16UC1", "mono16"))
+    return message.encoding in DEPTH_ENCODINGS
 
 
 def _depth_topic(first: dict[str, Any], colour: str, named: str | None) -> str:
@@ -309,12 +329,15 @@ def _depth_topic(first: dict[str, Any], colour: str, named: str | None) -> str:
     images have the colour images' size (a driver records its sensor's own depth beside the
     registered one: a RealSense's ``depth/image_rect_raw`` beside ``aligned_depth_to_color``)."""
     size = _size(first[colour])
-    depths = {t: (int(m.height), int(m.width)) for t, m in first.items() if _is_depth(m)}
-    registered = [t for t, shape in depths.items() if shape == size]
-    candidates = list(depths) if named or not registered else registered
+    depths = {t: _size(m) for t, m in first.items() if _is_depth(m)}
+    # As for the colour: a compressedDepth copy of a raw topic the bag holds too is passed over.
+    raw = [t for t in depths if not _copy(t, "/compressedDepth", depths)]
+    registered = [t for t in raw if depths[t] == size]
+    candidates = list(depths) if named else registered or raw
     topic = _pick("depth image", named, candidates, "--depth-topic")
-    if size is not None and depths[topic] != size:
-        (h, w), (dh, dw) = size, depths[topic]
+    shape = depths[topic]
+    if size is not None and shape is not None and shape != size:
+        (h, w), (dh, dw) = size, shape
         raise ValueError(
             f"the depth images of {topic} are {dw}x{dh}, the colour images {w}x{h}: the depth must be "
             "registered to the colour image (a driver's aligned_depth_to_color or depth_to_rgb topic)"
@@ -323,15 +346,21 @@ def _depth_topic(first: dict[str, Any], colour: str, named: str | None) -> str:
 
 
 def _size(message: Any) -> tuple[int, int] | None:
-    """The (height, width) of a colour image message; None for a compressed one that does not
-    decode (its frame is skipped when read)."""
+    """The (height, width) of an image message; None for a compressed one that does not decode
+    (its frame is skipped when read)."""
     if not _compressed(message):
         return int(message.height), int(message.width)
+    skip = COMPRESSED_DEPTH_HEADER if "compressedDepth" in message.format else 0
     try:
-        with PILImage.open(BytesIO(bytes(message.data))) as image:
+        with PILImage.open(BytesIO(bytes(message.data)[skip:])) as image:
             return image.height, image.width
     except READ_ERRORS:
         return None
+
+
+def _copy(topic: str, suffix: str, topics: Collection[str]) -> bool:
+    """Whether ``topic`` is image_transport's ``suffix`` copy of another of ``topics``."""
+    return topic.endswith(suffix) and topic[: -len(suffix)] in topics
 
 
 def _pick(what: str, named: str | None, candidates: list[str], flag: str) -> str:
