@@ -529,6 +529,8 @@ def test_a_live_nodes_messages_convert_as_a_bags_do():
     PILImage.fromarray(mm.astype(np.uint16)).save(encoded, "PNG")
     packed = SimpleNamespace(format="16UC1; compressedDepth png", data=bytes(12) + encoded.getvalue())
     np.testing.assert_allclose(depth_image(packed), mm.astype(np.float32) / 1000)
+    with pytest.raises(ValueError, match="depth format '16UC1; compressedDepth rvl' is not"):
+        depth_image(SimpleNamespace(format="16UC1; compressedDepth rvl", data=bytes(20)))
     with pytest.raises(ValueError, match="does not hold 2 rows of 9"):
         colour_image(
             SimpleNamespace(encoding="rgb8", height=2, width=3, step=9, is_bigendian=0, data=bytes(10))

@@ -319,8 +319,9 @@ def _is_colour(message: Any) -> bool:
 
 
 def _is_depth(message: Any) -> bool:
-    if _compressed(message):  # image_transport's format: "16UC1; compressedDepth png"
-        return "compressedDepth" in message.format and any(e in message.format for e in ("16UC1", "mono16"))
+    if _compressed(message):  # image_transport's format: "16UC1; compressedDepth png" (or rvl)
+        form = message.format
+        return "compressedDepth" in form and "rvl" not in form and any(e in form for e in ("16UC1", "mono16"))
     return message.encoding in DEPTH_ENCODINGS
 
 
