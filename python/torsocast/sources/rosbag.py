@@ -100,7 +100,7 @@ def depth_image(message: Any) -> npt.NDArray[np.float32]:
     if _compressed(message):
         if not _is_depth(message):
             raise ValueError(
-                f"depth format {message.format!r} is not compressedDepth of 16UC1 millimetres "
+                f"depth format {message.format!r} is not compressedDepth of 16UC1 millimetres in PNG "
                 f"(nor an Image in one of {', '.join(DEPTH_ENCODINGS)})"
             )
         with PILImage.open(BytesIO(bytes(message.data)[COMPRESSED_DEPTH_HEADER:])) as image:
