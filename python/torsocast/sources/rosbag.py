@@ -32,7 +32,7 @@ from PIL import Image as PILImage
 
 from ..camera import Camera, Intrinsics, level_camera
 from .frame import PAIRING_TOLERANCE, READ_ERRORS, Frame, SkippedFrame
-from .transforms import TransformLookupError, TransformTree
+from .transforms import F64, TransformLookupError, TransformTree
 
 IMAGE, COMPRESSED = "sensor_msgs/msg/Image", "sensor_msgs/msg/CompressedImage"
 CAMERA_INFO, TF = "sensor_msgs/msg/CameraInfo", "tf2_msgs/msg/TFMessage"
@@ -46,8 +46,6 @@ COMPRESSED_DEPTH_HEADER = 12
 #: oldest is paired with the nearest one so far: a bag's messages come in the order they were
 #: received, not stamped. Also how many depth images are kept to pair with.
 LOOKAHEAD = 8
-
-F64 = npt.NDArray[np.float64]
 
 
 def _reader(path: Path) -> tuple[Any, type[Exception]]:
@@ -191,28 +189,27 @@ class RosBag:
                     raise ValueError(f"topic {info} holds no camera info")
                 self.intrinsics = intrinsics(message)
                 self.camera_frame = str(first[self.color_topic].header.frame_id).lstrip("/")
-                self.tree = self._transforms(bag, self.camera_frame, world_frame)
+                self._transforms(bag, world_frame)
                 self.frames = sum(c.msgcount for c in bag.connections if c.topic == self.color_topic)
         except (KeyError, AttributeError) as e:
             raise ValueError(f"{self.path}: a message of an unexpected shape ({e})") from e
         except (ValueError, self._bad_message) as e:
             raise ValueError(f"{self.path}: {e}") from e
-        self.world_frame = self._world(world_frame)
 
     def _world(self, named: str | None) -> str | None:
         """The frame the camera is placed in: the one named, else odom, else the camera's root;
         None where the bag has no transforms. Refused where the camera's frame is not below it."""
         if not self.tree.parents:
             if named is not None:
-                raise ValueError(f"{self.path}: the bag has no transforms to place the camera in {named!r}")
+                raise ValueError(f"the bag has no transforms to place the camera in {named!r}")
             return None
         if named is not None and named not in self.tree:
-            raise ValueError(f"{self.path}: the transforms have no frame {named!r}")
+            raise ValueError(f"the transforms have no frame {named!r}")
         world = named or ("odom" if "odom" in self.tree else self.tree.root(self.camera_frame))
         if self.tree.root(world) != self.tree.root(self.camera_frame):
             raise ValueError(
-                f"{self.path}: the colour images' frame {self.camera_frame!r} is not connected to "
-                f"{world!r} by the transforms (name the fixed frame with --world-frame)"
+                f"the colour images' frame {self.camera_frame!r} is not connected to {world!r} by the "
+                "transforms (name the fixed frame with --world-frame)"
             )
         return world
 
@@ -222,23 +219,24 @@ class RosBag:
             return self.reader.deserialize(raw, conn.msgtype)
         return None
 
-    def _transforms(self, bag: Any, camera: str, world: str | None) -> TransformTree:
-        """The bag's transform tree: its whole shape, and the samples of the transforms above the
-        camera's frame and above ``world`` (else odom) alone, for a robot's ``/tf`` carries every
-        joint it has, many times a second."""
-        tree = TransformTree()
+    def _transforms(self, bag: Any, named: str | None) -> None:
+        """The bag's transform tree (``tree``) and the frame the camera is placed in
+        (``world_frame``, :meth:`_world`, decided on the tree's shape): the shape whole, the
+        samples of the transforms above the camera's frame and the world frame alone, for a
+        robot's ``/tf`` carries every joint it has, many times a second."""
+        self.tree = TransformTree()
         for parent, child, *_ in self._tf(bag):
-            tree.connect(parent, child)
-        kept = set(tree.ancestors(camera)) | set(tree.ancestors(world or "odom"))
+            self.tree.connect(parent, child)
+        self.world_frame = self._world(named)
+        if self.world_frame is None:
+            return
+        kept = set(self.tree.ancestors(self.camera_frame)) | set(self.tree.ancestors(self.world_frame))
         for parent, child, t, translation, quaternion, static in self._tf(bag):
             if child in kept:
-                tree.add(parent, child, t, translation, quaternion, static)
-        return tree
+                self.tree.add(parent, child, t, translation, quaternion, static)
 
     @staticmethod
-    def _tf(
-        bag: Any,
-    ) -> Iterator[tuple[str, str, float, npt.NDArray[np.float64], npt.NDArray[np.float64], bool]]:
+    def _tf(bag: Any) -> Iterator[tuple[str, str, float, F64, F64, bool]]:
         """Every transform on ``/tf`` and ``/tf_static``: parent, child, stamp, translation,
         quaternion ``[x, y, z, w]``, and whether static."""
         for conn in [c for c in bag.connections if c.msgtype == TF]:
