@@ -94,17 +94,15 @@ def _forecast(args: argparse.Namespace) -> int:
 H36M_ENV = "TORSOCAST_H36M"
 
 
-def _eval_h36m(args: argparse.Namespace) -> int:
+def _h36m_files(args: argparse.Namespace) -> tuple[str, list[int], int] | None:
+    """The data folder, the subjects and how many of their files are there; None (said) if any
+    is missing or malformed."""
     from .datasets import h36m
-    from .evaluation import report
-    from .evaluation.h36m import evaluate
-    from .evaluation.methods import method_configs
-    from .progress import Progress
 
     data = args.data or os.environ.get(H36M_ENV)
     if data is None:
         print(f"no Human3.6M data: pass --data DIR or set {H36M_ENV}", file=sys.stderr)
-        return 2
+        return None
     try:
         subjects = [int(s) for s in args.subjects.split(",") if s.strip()]
     except ValueError:
@@ -114,20 +112,40 @@ def _eval_h36m(args: argparse.Namespace) -> int:
             f"--subjects: expected comma-separated subject numbers (5 for S5), got {args.subjects!r}",
             file=sys.stderr,
         )
-        return 2
+        return None
     files = sum(len(h36m.available(data, s)) for s in subjects)
     if files == 0:
         print(
             f"{data}: no Human3.6M files for subjects {subjects} (expected S<n>/<action>_<1|2>.txt)",
             file=sys.stderr,
         )
+        return None
+    return data, subjects, files
+
+
+def _eval_h36m(args: argparse.Namespace) -> int:
+    from .evaluation import hmp, report
+    from .evaluation.h36m import evaluate
+    from .evaluation.methods import method_configs
+    from .progress import Progress
+
+    found = _h36m_files(args)
+    if found is None:
         return 2
+    data, subjects, files = found
+    model = None
+    if args.hmp is not None:
+        try:
+            model = hmp.Model.load(args.hmp)
+        except ValueError as e:
+            print(f"--hmp: {e}", file=sys.stderr)
+            return 2
     if _out_folder(args.out) is None:
         return 2
     methods = method_configs()
-    progress = Progress(files + len(methods), f"eval h36m ({args.protocol})")
+    progress = Progress(files + len(methods) + (model is not None), f"eval h36m ({args.protocol})")
     try:
-        result = evaluate(data, subjects, args.protocol, args.every, methods, progress)
+        result = evaluate(data, subjects, args.protocol, args.every, methods, progress, hmp_model=model)
     except (FileNotFoundError, ValueError) as e:
         print(f"torsocast eval h36m: {e}", file=sys.stderr)
         return 2
@@ -137,6 +155,34 @@ def _eval_h36m(args: argparse.Namespace) -> int:
     draw = _can_draw()
     written = report.write(result, args.out, draw=draw)
     print(f"wrote {', '.join(str(p) for p in written)}", file=sys.stderr)
+    return 0
+
+
+def _eval_train_hmp(args: argparse.Namespace) -> int:
+    from .datasets import h36m
+    from .evaluation import hmp
+    from .progress import Progress
+
+    found = _h36m_files(args)
+    if found is None:
+        return 2
+    data, subjects, _ = found
+    try:
+        settings = hmp.Training(units=args.units, iterations=args.iterations, seed=args.seed)
+    except ValueError as e:
+        print(f"torsocast eval train-hmp: {e}", file=sys.stderr)
+        return 2
+    out = Path(args.out)
+    if not out.parent.is_dir():
+        print(f"--out: {out.parent} is not a folder", file=sys.stderr)
+        return 2
+    takes = [(a, h36m.read_frames(data, s, a, sub)) for s in subjects for a, sub in h36m.available(data, s)]
+    progress = Progress(settings.iterations // 100, f"eval train-hmp ({settings.units} units)")
+    model = hmp.train(takes, h36m.ACTIONS, subjects, settings, lambda i, loss: progress(f"loss {loss:.4f}"))
+    model.save(out)
+    trained_on = ", ".join(f"S{s}" for s in subjects)
+    loss = model.losses[-100:].mean()
+    print(f"wrote {out} (trained on {trained_on}; mean loss over the last 100 steps {loss:.4f})")
     return 0
 
 
@@ -416,7 +462,10 @@ def main(argv: list[str] | None = None) -> int:
     fc.add_argument("input", help="CSV file, or - for standard input")
     fc.add_argument("--horizons", default="0.4,1.0,2.0", help="seconds ahead, comma-separated")
     # Defaults and choices are the core's (ForecasterConfig), never written here.
+    from .evaluation.hmp import Training
+
     default, options = ForecasterConfig(), ForecasterConfig.options()
+    hmp_defaults = Training()
     fc.add_argument("--method", default=default.method, choices=options["method"])
     fc.add_argument(
         "--degree",
@@ -440,7 +489,26 @@ def main(argv: list[str] | None = None) -> int:
     h36.add_argument("--protocol", default="dense", choices=["seeds", "dense"])
     h36.add_argument("--every", type=int, default=10, help="dense protocol: a window every N samples")
     h36.add_argument("--out", default="eval_h36m", help="folder for report.md/.json/.csv and the figures")
+    h36.add_argument(
+        "--hmp", metavar="MODEL", help="an HMP model from 'torsocast eval train-hmp', run as one more method"
+    )
     h36.set_defaults(run=_eval_h36m)
+    th = ev_sub.add_parser(
+        "train-hmp", help="train the thesis' learned baseline (Martinez et al.'s GRU) on Human3.6M subjects"
+    )
+    th.add_argument("--data", help=f"folder with S1/... (default: ${H36M_ENV})")
+    th.add_argument(
+        "--subjects", default="1", help="comma-separated training subjects (never 5, the test subject)"
+    )
+    th.add_argument("--units", type=int, default=hmp_defaults.units, help="GRU units (the paper's 1024)")
+    th.add_argument(
+        "--iterations", type=int, default=hmp_defaults.iterations, help="training steps of 16 windows"
+    )
+    th.add_argument("--seed", type=int, default=hmp_defaults.seed)
+    th.add_argument(
+        "--out", default="hmp.npz", help="where to write the model (keep it out of the repository)"
+    )
+    th.set_defaults(run=_eval_train_hmp)
     sc = ev_sub.add_parser(
         "scenes", help="rendered RGB-D scenes of 1 to 6 people through the real pipeline, against the truth"
     )

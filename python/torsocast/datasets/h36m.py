@@ -27,7 +27,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .._core import fit_planes
-from .kinematics import chain, expmap_to_rotmat
+from .kinematics import chain, expmap_to_rotmat, rotmat_to_expmap
 
 F64 = npt.NDArray[np.float64]
 
@@ -157,10 +157,37 @@ def integrate_root(channels: F64) -> tuple[F64, F64]:
 def forward_kinematics(channels: F64) -> F64:
     """Global joint positions ``(frames, 32, 3)`` in metres, in the first frame's pelvis frame
     (x the subject's initial left, y roughly up, z initial forward)."""
-    root_rotation, root_position = integrate_root(channels)
+    return posed_joints(channels, *integrate_root(channels))
+
+
+def posed_joints(channels: F64, root_rotation: F64, root_position: F64) -> F64:
+    """Joint positions ``(frames, 32, 3)`` in metres of the frames' joint rotations about a root
+    already placed (rotations ``(frames, 3, 3)``, positions ``(frames, 3)`` in mm)."""
     local = expmap_to_rotmat(channels[:, 3:].reshape(len(channels), 32, 3))
-    xyz = chain(PARENTS, OFFSETS_MM, root_rotation, root_position, local)
-    return xyz / 1000.0
+    return chain(PARENTS, OFFSETS_MM, root_rotation, root_position, local) / 1000.0
+
+
+def continue_root(rotation: F64, position: F64, frames: F64) -> tuple[F64, F64]:
+    """The root after each of ``frames`` (their first six channels, increments), from a root at
+    ``rotation`` ``(3, 3)`` and ``position`` ``(3,)`` mm, as :func:`integrate_root` steps."""
+    increments = expmap_to_rotmat(frames[:, 3:6])
+    rotations, positions = np.empty((len(frames), 3, 3)), np.empty((len(frames), 3))
+    for i, (step, velocity) in enumerate(zip(increments, frames[:, :3])):
+        position = position + rotation.T @ velocity
+        rotation = step @ rotation
+        rotations[i], positions[i] = rotation, position
+    return rotations, positions
+
+
+def subsample(channels: F64, root_rotation: F64, root_position: F64) -> F64:
+    """The file's every second row, its root increments composed over the two rows each step
+    spans (the literature's even rows keep only one of the two, so a root carried on by them
+    drifts from the file's). The first row keeps its own."""
+    frames = channels[::2].copy()
+    rotation, position = root_rotation[::2], root_position[::2]
+    frames[1:, 3:6] = rotmat_to_expmap(rotation[1:] @ np.swapaxes(rotation[:-1], 1, 2))
+    frames[1:, :3] = np.einsum("nij,nj->ni", rotation[:-1], position[1:] - position[:-1])
+    return frames
 
 
 @dataclass(frozen=True)
@@ -257,6 +284,13 @@ class Sequence:
     """``(frames, 5)``: x, y, z (m), azimuth (unwrapped), elevation (rad); NaN where no plane."""
     status: npt.NDArray[np.uint8]
     gravity: Gravity
+    frames: F64
+    """``(frames, 99)``: the file's rows the poses are of (every second one, its root increments
+    over the 25 Hz step: :func:`subsample`), the input of a whole-body motion model."""
+    root_rotation: F64
+    """``(frames, 3, 3)``: the root at those rows, integrated over every row of the file."""
+    root_position: F64
+    """``(frames, 3)`` (mm)."""
 
     @property
     def name(self) -> str:
@@ -280,10 +314,45 @@ def load_sequence(
     path = sequence_path(root, subject, action, subaction)
     if not path.is_file():
         raise FileNotFoundError(f"{path}: no such Human3.6M file")
-    joints = forward_kinematics(read_expmap(path))
+    channels = read_expmap(path)
+    root_rotation, root_position = integrate_root(channels)
+    joints = posed_joints(channels, root_rotation, root_position)
     gravity = estimate_gravity(joints, gravity_rule)
     poses, status = torso_poses(joints[::2], gravity.up, torso_joints)
-    return Sequence(subject, action, subaction, poses, status, gravity)
+    return Sequence(
+        subject,
+        action,
+        subaction,
+        poses,
+        status,
+        gravity,
+        subsample(channels, root_rotation, root_position),
+        root_rotation[::2],
+        root_position[::2],
+    )
+
+
+def read_frames(root: str | Path, subject: int, action: str, subaction: int) -> F64:
+    """One file's 25 Hz frames as a whole-body motion model reads them (:func:`subsample`)."""
+    path = sequence_path(root, subject, action, subaction)
+    if not path.is_file():
+        raise FileNotFoundError(f"{path}: no such Human3.6M file")
+    channels = read_expmap(path)
+    return subsample(channels, *integrate_root(channels))
+
+
+def forecast_poses(
+    sequence: Sequence, start: int, frames: F64, torso_joints: Mapping[int, str] = TORSO_JOINTS
+) -> F64:
+    """Torso poses ``(len(frames), 5)`` of ``frames`` forecast from 25 Hz sample ``start`` on (a
+    whole-body model's output), made as the sequence's own poses are: the root carried on from
+    the last observed sample by the forecast increments, the skeleton posed, the torso plane
+    fitted in the sequence's gravity-aligned frame."""
+    rotation, position = continue_root(
+        sequence.root_rotation[start - 1], sequence.root_position[start - 1], frames
+    )
+    poses, _ = torso_poses(posed_joints(frames, rotation, position), sequence.gravity.up, torso_joints)
+    return poses
 
 
 def available(root: str | Path, subject: int) -> list[tuple[str, int]]:

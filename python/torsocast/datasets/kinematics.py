@@ -28,6 +28,26 @@ def expmap_to_rotmat(r: npt.ArrayLike) -> F64:
     return np.eye(3) + np.sin(theta) * cross + (1.0 - np.cos(theta)) * (cross @ cross)
 
 
+def rotmat_to_expmap(rotation: F64) -> F64:
+    """The exponential maps ``(..., 3)`` of rotations ``(..., 3, 3)`` turned by less than a half
+    turn, the inverse of :func:`expmap_to_rotmat`."""
+    rotation = np.asarray(rotation, dtype=np.float64)
+    skew = np.stack(
+        [
+            rotation[..., 2, 1] - rotation[..., 1, 2],
+            rotation[..., 0, 2] - rotation[..., 2, 0],
+            rotation[..., 1, 0] - rotation[..., 0, 1],
+        ],
+        -1,
+    )
+    cos = np.clip((np.trace(rotation, axis1=-2, axis2=-1) - 1.0) / 2.0, -1.0, 1.0)
+    theta = np.arccos(cos)[..., None]
+    sin = np.sin(theta)
+    # theta / sin(theta) tends to one for a small turn.
+    scale = np.where(sin > 1e-12, theta / np.where(sin > 1e-12, sin, 1.0), 1.0)
+    return 0.5 * scale * skew
+
+
 def chain(parents: npt.ArrayLike, offsets: F64, root_rotation: F64, root_position: F64, local: F64) -> F64:
     """Global joint positions ``(frames, joints, 3)`` from the root's rotation ``(frames, 3, 3)`` and
     position ``(frames, 3)`` and every joint's local rotation ``(frames, joints, 3, 3)`` (the root's

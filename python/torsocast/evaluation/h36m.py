@@ -8,7 +8,7 @@ window, which weights actions by their length.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -16,8 +16,8 @@ import numpy as np
 
 from .._core import ForecasterConfig, forecast_batch
 from ..datasets import h36m
-from . import metrics, protocol
-from .methods import LABELS, describe, method_configs
+from . import hmp, metrics, protocol
+from .methods import HMP_LABEL, LABELS, describe, method_configs
 
 #: Forecast steps 1..50 of 40 ms: the per-step curve from 40 ms to 2 s.
 STEPS = protocol.FUTURE
@@ -84,6 +84,38 @@ def groups(actions: Sequence[str]) -> dict[str, list[str]]:
     return {name: members for name, members in out.items() if members}
 
 
+#: Windows forecast by the HMP model at once (its states are batch x units floats).
+HMP_BATCH = 256
+
+
+def hmp_forecasts(
+    model: hmp.Model,
+    sequences: Sequence[h36m.Sequence],
+    windows: protocol.Windows,
+    torso_joints: Mapping[int, str] = h36m.TORSO_JOINTS,
+) -> tuple[np.ndarray, int]:
+    """The HMP model's ``(n, 50, 5)`` torso poses for each window: it forecasts the whole body from
+    the window's 50 frames, and the poses are made from its frames as the truth's are. A step
+    whose forecast body has no torso plane (its torso joints in a line) carries the step before
+    (the last observed pose for the first); their count comes second."""
+    by_name = {s.name: s for s in sequences}
+    out = np.empty((len(windows), STEPS, 5))
+    for action in dict.fromkeys(windows.action):
+        members = np.flatnonzero(windows.action == action)
+        for chunk in np.array_split(members, -(-len(members) // HMP_BATCH)):
+            picks = [(by_name[windows.sequence[i]], int(windows.start[i])) for i in chunk]
+            history = np.stack([seq.frames[start - protocol.HISTORY : start] for seq, start in picks])
+            frames = model.forecast(history, str(action), STEPS)
+            for i, (seq, start), forecast in zip(chunk, picks, frames):
+                out[i] = h36m.forecast_poses(seq, start, forecast, torso_joints)
+    carried = 0
+    for step in range(STEPS):
+        missing = ~np.isfinite(out[:, step]).all(axis=1)
+        carried += int(missing.sum())
+        out[missing, step] = out[missing, step - 1] if step else windows.history[missing, -1]
+    return out, carried
+
+
 def evaluate(
     data: str | Path,
     subjects: Sequence[int] = (5,),
@@ -93,10 +125,18 @@ def evaluate(
     progress: Progress | None = None,
     torso_joints: Mapping[int, str] = h36m.TORSO_JOINTS,
     gravity_rule: str = "auto",
+    hmp_model: hmp.Model | None = None,
 ) -> dict[str, Any]:
     """Runs every method on the protocol's windows and returns the report as plain data (the JSON
-    output holds exactly this)."""
+    output holds exactly this). With ``hmp_model``, the HMP baseline too, which must not have
+    been trained on a subject the evaluation tests."""
     methods = dict(methods) if methods is not None else method_configs()
+    if hmp_model is not None:
+        seen = sorted(set(hmp_model.subjects) & set(subjects))
+        if seen:
+            raise ValueError(
+                f"the HMP model was trained on subject(s) {seen}, which this evaluation tests on"
+            )
     sequences, left_out = load(data, subjects, progress, torso_joints, gravity_rule)
     windows = protocol.select(sequences, protocol_name, every)
     if len(windows) == 0:
@@ -104,9 +144,18 @@ def evaluate(
     horizons = list(np.arange(1, STEPS + 1) / h36m.RATE_HZ)
     action_names = [a for a in h36m.ACTIONS if a in set(windows.action)]
     category_members = groups(action_names)
+    hmp_poses, carried = (
+        hmp_forecasts(hmp_model, sequences, windows, torso_joints) if hmp_model is not None else (None, 0)
+    )
+
+    def forecasts() -> Iterator[tuple[str, np.ndarray]]:
+        for name, config in methods.items():
+            yield name, forecast_batch(windows.history, horizons, config)
+        if hmp_poses is not None:
+            yield "hmp", hmp_poses
+
     results: dict[str, Any] = {}
-    for name, config in methods.items():
-        forecast = forecast_batch(windows.history, horizons, config)
+    for name, forecast in forecasts():
         errors = metrics.step_errors(forecast, windows.future)
         per_action = {a: summarise(errors, windows.action == a) for a in action_names}
         results[name] = {
@@ -118,6 +167,15 @@ def evaluate(
         }
         if progress:
             progress(f"method {name}")
+    described: dict[str, dict[str, Any]] = {
+        name: {"label": LABELS.get(name, name), "config": describe(c)} for name, c in methods.items()
+    }
+    if hmp_model is not None:
+        described["hmp"] = {
+            "label": HMP_LABEL,
+            "config": hmp_model.describe(),
+            "steps_without_plane": carried,
+        }
     return {
         "dataset": "Human3.6M (exponential-map files)",
         "data": str(data),
@@ -146,8 +204,6 @@ def evaluate(
             }
             for s in sequences
         ],
-        "methods": {
-            name: {"label": LABELS.get(name, name), "config": describe(c)} for name, c in methods.items()
-        },
+        "methods": described,
         "results": results,
     }

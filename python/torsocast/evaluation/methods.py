@@ -39,6 +39,9 @@ LABELS = {
 for _d in DEGREES:
     LABELS[f"off_n{_d}"] = f"N = {_d}, no filter"
 
+#: The learned baseline (:mod:`torsocast.evaluation.hmp`), run where a trained model is given.
+HMP_LABEL = "HMP (Martinez et al. 2017, trained here)"
+
 
 def describe(config: ForecasterConfig) -> dict[str, object]:
     """A config's fields, for the JSON report."""

@@ -13,7 +13,7 @@ from . import thesis
 from .metrics import HORIZONS, QUANTITIES, UNITS
 
 HORIZON_NAMES = {10: "400 ms", 25: "1 s", 50: "2 s"}
-#: Our method shown under each thesis column (HMP, an RNN, is not run here).
+#: Our method shown under each thesis column (HMP where a trained model was given).
 THESIS_COLUMNS = {
     "Const": "const",
     "N = 1": "zero_phase_n1",
@@ -21,10 +21,19 @@ THESIS_COLUMNS = {
     "N = 3": "zero_phase_n3",
     "CVel (2s)": "cvel_2s",
     "CVel (0.4s)": "cvel_0.4s",
-    "HMP": None,
+    "HMP": "hmp",
 }
 #: Methods drawn in the figures.
-FIGURE_METHODS = ("const", "cvel_2s", "cvel_0.4s", "zero_phase_n1", "zero_phase_n2", "off_n1", "default")
+FIGURE_METHODS = (
+    "const",
+    "cvel_2s",
+    "cvel_0.4s",
+    "zero_phase_n1",
+    "zero_phase_n2",
+    "off_n1",
+    "default",
+    "hmp",
+)
 
 
 def _cell(ours: float | None, theirs: float | None) -> str:
@@ -113,6 +122,15 @@ def markdown(report: dict[str, Any]) -> str:
     ]
     if report.get("left_out"):
         parts.append("Files left out: " + "; ".join(report["left_out"]) + ".")
+    if "hmp" in report["methods"]:
+        model = report["methods"]["hmp"]
+        config = model["config"]
+        subjects = ", ".join(f"S{s}" for s in config["trained_on_subjects"])
+        parts.append(
+            f"HMP: a GRU of {config['units']} units, trained here on {subjects} for {config['iterations']} "
+            f"steps (the thesis' saw six subjects for 100 000); {model['steps_without_plane']} of its "
+            "forecast steps had no torso plane and carry the step before."
+        )
     for quantity, number in (("azimuth", "5.3 (azimuth)"), ("elevation", "5.3 (elevation)")):
         parts += [f"## Table {number}, degrees", table_5_3(report, quantity)]
     for quantity, number in (("azimuth", "5.4"), ("elevation", "5.5")):
