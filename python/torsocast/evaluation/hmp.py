@@ -214,7 +214,8 @@ def loss_and_gradients(w: Weights, history: Floats, future: Floats) -> tuple[flo
 @dataclass(frozen=True)
 class Training:
     """The reference code's settings, but for the iterations: its 100 000 steps of a 1024-unit
-    cell take days on a laptop's two cores in NumPy, so the count is the user's to choose."""
+    cell take hours on two CPU cores in NumPy, so the default is a tenth of them (the training
+    loss had flattened by then on S1: docs/reproduction.md)."""
 
     units: int = 1024
     iterations: int = 10_000
