@@ -178,7 +178,13 @@ def _eval_train_hmp(args: argparse.Namespace) -> int:
         return 2
     takes = [(a, h36m.read_frames(data, s, a, sub)) for s in subjects for a, sub in h36m.available(data, s)]
     progress = Progress(settings.iterations // 100, f"eval train-hmp ({settings.units} units)")
-    model = hmp.train(takes, h36m.ACTIONS, subjects, settings, lambda i, loss: progress(f"loss {loss:.4f}"))
+    try:
+        model = hmp.train(
+            takes, h36m.ACTIONS, subjects, settings, lambda i, loss: progress(f"loss {loss:.4f}")
+        )
+    except ValueError as e:
+        print(f"torsocast eval train-hmp: {e}", file=sys.stderr)
+        return 2
     model.save(out)
     trained_on = ", ".join(f"S{s}" for s in subjects)
     loss = model.losses[-100:].mean()
@@ -462,10 +468,7 @@ def main(argv: list[str] | None = None) -> int:
     fc.add_argument("input", help="CSV file, or - for standard input")
     fc.add_argument("--horizons", default="0.4,1.0,2.0", help="seconds ahead, comma-separated")
     # Defaults and choices are the core's (ForecasterConfig), never written here.
-    from .evaluation.hmp import Training
-
     default, options = ForecasterConfig(), ForecasterConfig.options()
-    hmp_defaults = Training()
     fc.add_argument("--method", default=default.method, choices=options["method"])
     fc.add_argument(
         "--degree",
@@ -493,6 +496,9 @@ def main(argv: list[str] | None = None) -> int:
         "--hmp", metavar="MODEL", help="an HMP model from 'torsocast eval train-hmp', run as one more method"
     )
     h36.set_defaults(run=_eval_h36m)
+    from .evaluation.hmp import Training
+
+    hmp_defaults = Training()
     th = ev_sub.add_parser(
         "train-hmp", help="train the thesis' learned baseline (Martinez et al.'s GRU) on Human3.6M subjects"
     )

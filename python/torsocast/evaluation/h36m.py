@@ -96,8 +96,8 @@ def hmp_forecasts(
 ) -> tuple[np.ndarray, int]:
     """The HMP model's ``(n, 50, 5)`` torso poses for each window: it forecasts the whole body from
     the window's 50 frames, and the poses are made from its frames as the truth's are. A step
-    whose forecast body has no torso plane (its torso joints in a line) carries the step before
-    (the last observed pose for the first); their count comes second."""
+    whose forecast body gives no torso plane, or none whose side can be told, carries the step
+    before (the last observed pose for the first); their count comes second."""
     by_name = {s.name: s for s in sequences}
     out = np.empty((len(windows), STEPS, 5))
     for action in dict.fromkeys(windows.action):

@@ -129,7 +129,7 @@ def markdown(report: dict[str, Any]) -> str:
         parts.append(
             f"HMP: a GRU of {config['units']} units, trained here on {subjects} for {config['iterations']} "
             f"steps (the thesis' saw six subjects for 100 000); {model['steps_without_plane']} of its "
-            "forecast steps had no torso plane and carry the step before."
+            "forecast steps gave no oriented torso plane and carry the step before."
         )
     for quantity, number in (("azimuth", "5.3 (azimuth)"), ("elevation", "5.3 (elevation)")):
         parts += [f"## Table {number}, degrees", table_5_3(report, quantity)]
