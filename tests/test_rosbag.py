@@ -314,6 +314,41 @@ def test_a_drivers_compressed_copy_and_its_sensors_own_depth_are_passed_over(fra
         RosBag(path, depth_topic="/camera/depth/image_rect_raw")
 
 
+@pytest.mark.parametrize("ros", [1, 2])
+def test_the_sensors_own_depth_at_the_colours_size_is_told_by_its_frame(frames, tmp_path, ros):
+    # Both streams set to one size: only the optical frame in the header says which depth
+    # images are the colour camera's pixels.
+    store = get_typestore(Stores.ROS1_NOETIC if ros == 1 else Stores.ROS2_HUMBLE)
+    T = store.types
+    seconds, nanoseconds = divmod(int(round((EPOCH + frames[0].time) * 1e9)), 10**9)
+    time = T["builtin_interfaces/msg/Time"](sec=seconds, nanosec=nanoseconds)
+    fields = {"seq": 0} if ros == 1 else {}
+    header = T["std_msgs/msg/Header"](**fields, stamp=time, frame_id="camera_depth_optical_frame")
+    ones = np.full(frames[0].color.shape[:2], 1000, np.uint16)  # 1 m everywhere: not the scene's
+    own = T["sensor_msgs/msg/Image"](
+        header=header,
+        height=ones.shape[0],
+        width=ones.shape[1],
+        encoding="16UC1",
+        is_bigendian=0,
+        step=ones.shape[1] * 2,
+        data=ones.view(np.uint8).ravel(),
+    )
+    extra = [("/camera/depth/image_rect_raw", "sensor_msgs/msg/Image", [(EPOCH + frames[0].time, own)])]
+    path = write_bag(
+        tmp_path / ("same_size.bag" if ros == 1 else "same_size"), frames[:2], ros=ros, extra=extra
+    )
+    bag = RosBag(path)
+    assert bag.depth_topic == "/camera/aligned_depth_to_color/image_raw"
+    first = read(bag)[0]
+    np.testing.assert_allclose(first.depth, frames[0].depth, atol=5e-4)
+    with pytest.raises(
+        ValueError,
+        match=r"in frame 'camera_depth_optical_frame', the colour images in 'camera_color_optical_frame'",
+    ):
+        RosBag(path, depth_topic="/camera/depth/image_rect_raw")
+
+
 def test_a_colour_image_without_a_depth_image_near_it_is_a_colour_only_frame(frames, tmp_path, capsys):
     # Depth stamped 30 ms after each colour image at 10 frames/s: none within the 20 ms pairing.
     late = read(RosBag(write_bag(tmp_path / "late", frames[:5], depth_lag=0.03)))

@@ -188,7 +188,7 @@ class RosBag:
                 if message is None:
                     raise ValueError(f"topic {info} holds no camera info")
                 self.intrinsics = intrinsics(message)
-                self.camera_frame = str(first[self.color_topic].header.frame_id).lstrip("/")
+                self.camera_frame = _frame(first[self.color_topic])
                 self._transforms(bag, world_frame)
                 self.frames = sum(c.msgcount for c in bag.connections if c.topic == self.color_topic)
         except (KeyError, AttributeError) as e:
@@ -323,25 +323,44 @@ def _is_depth(message: Any) -> bool:
     return message.encoding in DEPTH_ENCODINGS
 
 
+#: What a driver names the depth that is registered to its colour images.
+REGISTERED_DEPTH = "a driver's aligned_depth_to_color or depth_to_rgb topic"
+
+
 def _depth_topic(first: dict[str, Any], colour: str, named: str | None) -> str:
     """The depth topic registered to the ``colour`` topic: named, or the one depth topic whose
-    images have the colour images' size (a driver records its sensor's own depth beside the
-    registered one: a RealSense's ``depth/image_rect_raw`` beside ``aligned_depth_to_color``)."""
-    size = _size(first[colour])
-    depths = {t: _size(m) for t, m in first.items() if _is_depth(m)}
+    images have the colour images' size and optical frame (a driver records its sensor's own
+    depth beside the registered one: a RealSense's ``depth/image_rect_raw`` beside
+    ``aligned_depth_to_color``, whose pixels are the colour camera's and carry its frame)."""
+    size, frame = _size(first[colour]), _frame(first[colour])
+    depths = {t: m for t, m in first.items() if _is_depth(m)}
     # As for the colour: a compressedDepth copy of a raw topic the bag holds too is passed over.
     raw = [t for t in depths if not _copy(t, "/compressedDepth", depths)]
-    registered = [t for t in raw if depths[t] == size]
+    registered = [t for t in raw if _size(depths[t]) == size and _same_frame(_frame(depths[t]), frame)]
     candidates = list(depths) if named else registered or raw
     topic = _pick("depth image", named, candidates, "--depth-topic")
-    shape = depths[topic]
+    shape, depth_frame = _size(depths[topic]), _frame(depths[topic])
     if size is not None and shape is not None and shape != size:
         (h, w), (dh, dw) = size, shape
         raise ValueError(
             f"the depth images of {topic} are {dw}x{dh}, the colour images {w}x{h}: the depth must be "
-            "registered to the colour image (a driver's aligned_depth_to_color or depth_to_rgb topic)"
+            f"registered to the colour image ({REGISTERED_DEPTH})"
+        )
+    if not _same_frame(depth_frame, frame):
+        raise ValueError(
+            f"the depth images of {topic} are in frame {depth_frame!r}, the colour images in {frame!r}: "
+            f"the depth must be registered to the colour image ({REGISTERED_DEPTH})"
         )
     return topic
+
+
+def _frame(message: Any) -> str:
+    return str(message.header.frame_id).lstrip("/")
+
+
+def _same_frame(a: str, b: str) -> bool:
+    """Whether two images' frames are one; a bag that leaves either empty says nothing."""
+    return not a or not b or a == b
 
 
 def _size(message: Any) -> tuple[int, int] | None:
