@@ -341,6 +341,7 @@ def test_the_sensors_own_depth_at_the_colours_size_is_told_by_its_frame(frames, 
     bag = RosBag(path)
     assert bag.depth_topic == "/camera/aligned_depth_to_color/image_raw"
     first = read(bag)[0]
+    assert first.depth is not None
     np.testing.assert_allclose(first.depth, frames[0].depth, atol=5e-4)
     with pytest.raises(
         ValueError,
