@@ -97,6 +97,20 @@ def test_a_model_round_trips_through_a_file_and_a_bad_file_is_refused(tmp_path):
         model.forecast(history[:, :10], "walking", 5)
 
 
+def test_a_long_training_hands_over_the_model_so_far(monkeypatch):
+    monkeypatch.setattr(hmp, "CHECKPOINT_EVERY", 40)
+    saved = []
+    model = hmp.train(
+        _waves(np.random.default_rng(6)),
+        ["walking"],
+        (1,),
+        hmp.Training(units=4, iterations=100, steps=5),
+        checkpoint=lambda so_far: saved.append((so_far.iterations, len(so_far.losses))),
+    )
+    assert saved == [(40, 40), (80, 80)]
+    assert model.iterations == 100 and len(model.losses) == 100
+
+
 @pytest.mark.parametrize("field", ["units", "iterations", "batch", "steps"])
 def test_training_settings_refuse_nothing_to_train(field):
     with pytest.raises(ValueError, match=field):

@@ -180,7 +180,12 @@ def _eval_train_hmp(args: argparse.Namespace) -> int:
     progress = Progress(settings.iterations // 100, f"eval train-hmp ({settings.units} units)")
     try:
         model = hmp.train(
-            takes, h36m.ACTIONS, subjects, settings, lambda i, loss: progress(f"loss {loss:.4f}")
+            takes,
+            h36m.ACTIONS,
+            subjects,
+            settings,
+            lambda i, loss: progress(f"loss {loss:.4f}"),
+            lambda so_far: so_far.save(out),  # stopped early, the file holds the steps done
         )
     except ValueError as e:
         print(f"torsocast eval train-hmp: {e}", file=sys.stderr)

@@ -39,6 +39,8 @@ Floats = npt.NDArray[np.floating[Any]]
 STILL_STD = 1e-4
 #: Frames read before the first forecast (2 s at 25 Hz); the encoder reads all but the last.
 HISTORY = 50
+#: Training steps between the models :func:`train` hands its ``checkpoint``.
+CHECKPOINT_EVERY = 1000
 
 
 @dataclass(frozen=True)
@@ -335,11 +337,14 @@ def train(
     subjects: Sequence[int],
     settings: Training = Training(),
     progress: Callable[[int, float], None] | None = None,
+    checkpoint: Callable[[Model], None] | None = None,
 ) -> Model:
     """Trains on ``(action, (frames, 99) 25 Hz frames)`` takes as the reference code does: each
     step a batch of windows, each from a take drawn uniformly and a start drawn uniformly (from the
     17th frame on), 50 frames read and ``settings.steps`` predicted. ``progress(iteration, loss)``
-    is called every 100 iterations."""
+    is called every 100 iterations, ``checkpoint(model so far)`` every
+    :data:`CHECKPOINT_EVERY` (so that a long run stopped early leaves a model that says how far
+    it got)."""
     span = HISTORY + settings.steps
     usable = [(a, f) for a, f in takes if len(f) > 16 + span]
     if not usable:
@@ -365,4 +370,6 @@ def train(
             rate *= settings.decay
         if progress is not None and (i + 1) % 100 == 0:
             progress(i + 1, float(losses[i - 99 : i + 1].mean()))
+        if checkpoint is not None and (i + 1) % CHECKPOINT_EVERY == 0 and i + 1 < settings.iterations:
+            checkpoint(Model(w, normaliser, tuple(actions), tuple(subjects), i + 1, losses[: i + 1]))
     return Model(w, normaliser, tuple(actions), tuple(subjects), settings.iterations, losses)
