@@ -81,8 +81,8 @@ def test_training_learns_a_motion_that_zero_velocity_cannot():
 def test_a_model_round_trips_through_a_file_and_a_bad_file_is_refused(tmp_path):
     rng = np.random.default_rng(4)
     model = hmp.train(_waves(rng), ["walking"], (1,), hmp.Training(units=8, iterations=100, steps=5))
-    model.save(tmp_path / "m.npz")
-    again = hmp.Model.load(tmp_path / "m.npz")
+    model.save(tmp_path / "m")  # named as given, no suffix added
+    again = hmp.Model.load(tmp_path / "m")
     history = _waves(rng, takes=1)[0][1][None, : hmp.HISTORY]
     np.testing.assert_array_equal(
         model.forecast(history, "walking", 5), again.forecast(history, "walking", 5)

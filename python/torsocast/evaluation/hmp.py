@@ -277,23 +277,28 @@ class Model:
         }
 
     def save(self, path: str | Path) -> None:
+        """Writes the model to ``path`` as it is named (NumPy's own would add ``.npz``), whole or
+        not at all: a run stopped while a checkpoint is written keeps the one before."""
         w = self.weights
-        np.savez(
-            path,
-            gates=w.gates,
-            gates_bias=w.gates_bias,
-            candidate=w.candidate,
-            candidate_bias=w.candidate_bias,
-            out=w.out,
-            out_bias=w.out_bias,
-            mean=self.normaliser.mean,
-            std=self.normaliser.std,
-            used=self.normaliser.used,
-            actions=np.array(self.actions),
-            subjects=np.array(self.subjects),
-            iterations=self.iterations,
-            losses=self.losses,
-        )
+        partial = Path(f"{path}.partial")
+        with open(partial, "wb") as file:
+            np.savez(
+                file,
+                gates=w.gates,
+                gates_bias=w.gates_bias,
+                candidate=w.candidate,
+                candidate_bias=w.candidate_bias,
+                out=w.out,
+                out_bias=w.out_bias,
+                mean=self.normaliser.mean,
+                std=self.normaliser.std,
+                used=self.normaliser.used,
+                actions=np.array(self.actions),
+                subjects=np.array(self.subjects),
+                iterations=self.iterations,
+                losses=self.losses,
+            )
+        partial.replace(path)
 
     @classmethod
     def load(cls, path: str | Path) -> Model:
