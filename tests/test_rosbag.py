@@ -558,13 +558,30 @@ def test_a_live_nodes_messages_convert_as_a_bags_do():
     PILImage.fromarray(np.full((4, 4, 3), 200, np.uint8)).save(encoded, "PNG")
     png = SimpleNamespace(format="png", data=encoded.getvalue())
     np.testing.assert_array_equal(colour_image(png), np.full((4, 4, 3), 200, np.uint8))
-    with pytest.raises(ValueError, match="depth format 'png' is not compressedDepth of 16UC1"):
+    with pytest.raises(ValueError, match="depth format 'png' is not compressedDepth in PNG of 16UC1"):
         depth_image(png)
     # image_transport's compressedDepth of 16UC1: a 12-byte header, then a PNG of the millimetres.
     encoded = BytesIO()
     PILImage.fromarray(mm.astype(np.uint16)).save(encoded, "PNG")
     packed = SimpleNamespace(format="16UC1; compressedDepth png", data=bytes(12) + encoded.getvalue())
     np.testing.assert_allclose(depth_image(packed), mm.astype(np.float32) / 1000)
+    # Of 32FC1: a PNG of the inverse depth, quantised as image_transport's encoder does with its
+    # defaults (depth_max 10 m, depth_quantization 100), the two floats in the header.
+    metres = np.array([[0.5, 1.0, 2.25], [4.0, 6.5, 0.0], [np.nan, 12.0, 9.9]], np.float32)
+    a = np.float32(100.0 * 101.0)
+    b = np.float32(1.0 - a / 10.0)
+    with np.errstate(invalid="ignore"):
+        kept = (metres > 0) & (metres < 10.0)  # no reading, or beyond depth_max: 0
+    inverse = np.where(kept, a / np.where(kept, metres, 1) + b, 0).astype(np.uint16)  # C++ truncates
+    encoded = BytesIO()
+    PILImage.fromarray(inverse).save(encoded, "PNG")
+    header = np.array([0], "<i4").tobytes() + np.array([a, b], "<f4").tobytes()
+    packed = SimpleNamespace(format="32FC1; compressedDepth png", data=header + encoded.getvalue())
+    read = depth_image(packed)
+    expected = np.where(kept, metres, 0)
+    # One step of the inverse depth is depth squared over a: under 2 mm at 4 m, 4.2 mm at 6.5 m.
+    np.testing.assert_allclose(read, expected, atol=float(6.5**2 / a) + 1e-6)
+    assert read[1, 2] == 0 and read[2, 0] == 0 and read[2, 1] == 0
     with pytest.raises(ValueError, match="depth format '16UC1; compressedDepth rvl' is not"):
         depth_image(SimpleNamespace(format="16UC1; compressedDepth rvl", data=bytes(20)))
     with pytest.raises(ValueError, match="does not hold 2 rows of 9"):

@@ -4,8 +4,8 @@
 What a robot records: a colour image topic (``sensor_msgs/Image`` in rgb8, bgr8, rgba8, bgra8 or
 mono8, or ``sensor_msgs/CompressedImage`` in JPEG or PNG), a depth image topic registered to it
 (``sensor_msgs/Image`` in 16UC1 millimetres or 32FC1 metres, as a RealSense's
-``aligned_depth_to_color`` or a Kinect's registered depth, or image_transport's 16UC1
-``compressedDepth``), the colour camera's
+``aligned_depth_to_color`` or a Kinect's registered depth, or image_transport's
+``compressedDepth`` in PNG of either), the colour camera's
 ``sensor_msgs/CameraInfo`` and the transforms (``/tf``, ``/tf_static``). Each colour image
 becomes a frame at its header's stamp, with the depth image nearest in time (within
 :data:`~.frame.PAIRING_TOLERANCE`; none nearer: a colour-only frame) and the camera's pose in the
@@ -42,6 +42,9 @@ DEPTH_ENCODINGS = {"16UC1": 0.001, "mono16": 0.001, "32FC1": 1.0}
 #: Bytes before the PNG in image_transport's compressedDepth data (its ConfigHeader: the
 #: format, then two floats of 32FC1's inverse-depth quantisation, unused for 16UC1).
 COMPRESSED_DEPTH_HEADER = 12
+#: The encodings image_transport's compressedDepth carries: 16UC1 as the millimetres themselves,
+#: 32FC1 as a quantised inverse depth.
+COMPRESSED_DEPTH_ENCODINGS = ("16UC1", "mono16", "32FC1")
 #: How many colour images wait, at most, for a depth image stamped at or after them before the
 #: oldest is paired with the nearest one so far: a bag's messages come in the order they were
 #: received, not stamped. Also how many depth images are kept to pair with.
@@ -93,17 +96,25 @@ def colour_image(message: Any) -> npt.NDArray[np.uint8]:
 
 def depth_image(message: Any) -> npt.NDArray[np.float32]:
     """An ``(h, w)`` depth image in metres, 0 where there is no reading, from a depth Image
-    message or a 16UC1 ``compressedDepth`` one (image_transport's: a 12-byte header, then a PNG
-    of the millimetres)."""
+    message or a ``compressedDepth`` one in PNG (image_transport's: a 12-byte header, then a
+    PNG of 16UC1's millimetres, or of 32FC1's inverse depth quantised by the header's two
+    floats ``a`` and ``b``: depth ``a / (value - b)``, 0 for no reading)."""
     if _compressed(message):
         if not _is_depth(message):
+            encodings = ", ".join(COMPRESSED_DEPTH_ENCODINGS)
             raise ValueError(
-                f"depth format {message.format!r} is not compressedDepth of 16UC1 millimetres in PNG "
+                f"depth format {message.format!r} is not compressedDepth in PNG of {encodings} "
                 f"(nor an Image in one of {', '.join(DEPTH_ENCODINGS)})"
             )
-        with PILImage.open(BytesIO(bytes(message.data)[COMPRESSED_DEPTH_HEADER:])) as image:
-            raw = np.asarray(image, dtype=np.uint16)
-        scale = DEPTH_ENCODINGS["16UC1"]
+        data = bytes(message.data)
+        with PILImage.open(BytesIO(data[COMPRESSED_DEPTH_HEADER:])) as image:
+            raw = np.asarray(image, dtype=np.uint16).astype(np.float32)
+        if message.format.split(";")[0].strip() == "32FC1":
+            a, b = np.frombuffer(data[4:COMPRESSED_DEPTH_HEADER], dtype="<f4")
+            with np.errstate(divide="ignore"):
+                depth = np.where(raw > 0, a / (raw - b), np.float32(0.0)).astype(np.float32)
+        else:
+            depth = raw * np.float32(DEPTH_ENCODINGS["16UC1"])
     else:
         if message.encoding not in DEPTH_ENCODINGS:
             raise ValueError(
@@ -111,8 +122,7 @@ def depth_image(message: Any) -> npt.NDArray[np.float32]:
             )
         dtype = np.dtype(np.float32 if message.encoding == "32FC1" else np.uint16)
         raw = _rows(message, dtype.newbyteorder(">" if message.is_bigendian else "<"), 1)[..., 0]
-        scale = DEPTH_ENCODINGS[message.encoding]
-    depth = raw.astype(np.float32) * np.float32(scale)
+        depth = raw.astype(np.float32) * np.float32(DEPTH_ENCODINGS[message.encoding])
     depth[~np.isfinite(depth) | (depth < 0)] = 0.0
     return depth
 
@@ -319,7 +329,8 @@ def _is_colour(message: Any) -> bool:
 def _is_depth(message: Any) -> bool:
     if _compressed(message):  # image_transport's format: "16UC1; compressedDepth png" (or rvl)
         form = message.format
-        return "compressedDepth" in form and "rvl" not in form and any(e in form for e in ("16UC1", "mono16"))
+        encoding = form.split(";")[0].strip()
+        return "compressedDepth" in form and "rvl" not in form and encoding in COMPRESSED_DEPTH_ENCODINGS
     return message.encoding in DEPTH_ENCODINGS
 
 
