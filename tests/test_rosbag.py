@@ -108,8 +108,8 @@ def write_bag(
     robot in ``odom`` at 50 Hz (``/tf``), driving at ``drive`` m/s from the first frame's pose;
     a ROS 1 bag (``ros`` 1), or a ROS 2 one in SQLite (2) or MCAP storage. ``extra``: more
     (topic, message type, [(stamp, message)]) to record; the frames numbered in
-    ``without_depth`` have no depth image; with ``compressed_depth`` the depth is recorded as
-    image_transport's compressedDepth alone."""
+    ``without_depth`` have no depth image; with ``compressed_depth`` (True or "png", or "rvl") the
+    depth is recorded as image_transport's compressedDepth alone."""
     store = get_typestore(Stores.ROS1_NOETIC if ros == 1 else Stores.ROS2_HUMBLE)
     if ros == 1:  # Noetic's store lacks tf2's message; a ROS 1 bag carries its definition
         tf = "geometry_msgs/TransformStamped[] transforms"
@@ -198,7 +198,14 @@ def write_bag(
         mm = np.round(1000 * f.depth).astype(np.uint16)
         if k in without_depth:
             continue
-        if compressed_depth:
+        if compressed_depth == "rvl":
+            size = np.array([mm.shape[1], mm.shape[0]], "<u4").tobytes()
+            data = np.frombuffer(bytes(12) + size + rvl_encode(mm), np.uint8)
+            packed = T["sensor_msgs/msg/CompressedImage"](
+                header=header(t + depth_lag), format="16UC1; compressedDepth rvl", data=data
+            )
+            depths.append((t + depth_lag, packed))
+        elif compressed_depth:
             png = BytesIO()
             PILImage.fromarray(mm).save(png, "PNG")
             data = np.frombuffer(bytes(12) + png.getvalue(), np.uint8)
@@ -241,8 +248,9 @@ def test_a_bag_gives_back_the_frames_it_was_written_from(frames, tmp_path, ros):
         np.testing.assert_allclose(got.camera.camera_to_world, made.camera.camera_to_world, atol=1e-9)
 
 
-def test_a_bags_compressed_depth_reads_as_its_raw_depth(frames, tmp_path):
-    bag = RosBag(write_bag(tmp_path / "packed", frames[:4], compressed_depth=True))
+@pytest.mark.parametrize("packing", ["png", "rvl"])
+def test_a_bags_compressed_depth_reads_as_its_raw_depth(frames, tmp_path, packing):
+    bag = RosBag(write_bag(tmp_path / "packed", frames[:2], compressed_depth=packing))
     assert bag.depth_topic == "/camera/aligned_depth_to_color/image_raw/compressedDepth"
     for got, made in zip(read(bag), frames):
         assert got.depth is not None
@@ -539,6 +547,77 @@ def test_camera_info_gives_the_intrinsics_and_refuses_a_distortion_it_cannot_mod
         intrinsics(info("plumb_bob", [], k=(500.0, 320.0)))
 
 
+def rvl_encode(values):
+    """image_transport's CompressRVL, step by step: the reference the decoder is checked against."""
+    words, word, written = [], 0, 0
+
+    def vle(value):
+        nonlocal word, written
+        while True:
+            nibble = value & 7
+            value >>= 3
+            nibble |= 8 if value else 0
+            word = ((word << 4) | nibble) & 0xFFFFFFFF
+            written += 1
+            if written == 8:
+                words.append(word)
+                word, written = 0, 0
+            if not value:
+                return
+
+    flat, i, previous = [int(v) for v in np.ravel(values)], 0, 0
+    while i < len(flat):
+        zeros = 0
+        while i < len(flat) and flat[i] == 0:
+            zeros, i = zeros + 1, i + 1
+        vle(zeros)
+        nonzeros = 0
+        while i + nonzeros < len(flat) and flat[i + nonzeros]:
+            nonzeros += 1
+        vle(nonzeros)
+        for _ in range(nonzeros):
+            delta = flat[i] - previous
+            vle(((delta << 1) ^ (delta >> 31)) & 0xFFFFFFFF)
+            previous, i = flat[i], i + 1
+    if written:
+        words.append((word << 4 * (8 - written)) & 0xFFFFFFFF)
+    return np.array(words, "<u4").tobytes()
+
+
+def test_rvl_decodes_what_image_transports_encoder_writes():
+    from types import SimpleNamespace
+
+    from torsocast.sources.rosbag import depth_image, rvl_decode
+
+    # By hand: two zeros, one nonzero (5, zigzag 10: nibbles 0xA then 1): nibbles 2, 1, A, 1.
+    assert rvl_encode([0, 0, 5]) == bytes([0x00, 0x00, 0xA1, 0x21])
+    np.testing.assert_array_equal(rvl_decode(bytes([0x00, 0x00, 0xA1, 0x21]), 3), [0, 0, 5])
+    rng = np.random.default_rng(3)
+    mm = rng.integers(300, 9000, (48, 64)).astype(np.uint16)
+    mm[rng.random(mm.shape) < 0.3] = 0  # holes
+    mm[:5] = 0
+    mm[-1, -7:] = [65535, 1, 0, 0, 40000, 2, 0]  # the largest steps either way, and a closing run
+    np.testing.assert_array_equal(rvl_decode(rvl_encode(mm), mm.size), mm.ravel())
+    size = np.array([64, 48], "<u4").tobytes()
+    packed = SimpleNamespace(format="16UC1; compressedDepth rvl", data=bytes(12) + size + rvl_encode(mm))
+    np.testing.assert_allclose(depth_image(packed), mm.astype(np.float32) / 1000, rtol=1e-6)
+    a, b = np.float32(10100.0), np.float32(-1009.0)
+    header = np.array([0], "<i4").tobytes() + np.array([a, b], "<f4").tobytes()
+    inverse = SimpleNamespace(format="32FC1; compressedDepth rvl", data=header + size + rvl_encode(mm))
+    expected = np.where(mm > 0, a / (mm.astype(np.float32) - b), 0)
+    np.testing.assert_allclose(depth_image(inverse), expected, rtol=1e-6)
+    with pytest.raises(ValueError, match="RVL stream ends after"):
+        rvl_decode(rvl_encode(mm)[:40], mm.size)
+    with pytest.raises(ValueError, match="runs past the image's 3 pixels"):
+        rvl_decode(rvl_encode([0, 0, 0, 7]), 3)
+    lying = SimpleNamespace(
+        format="16UC1; compressedDepth rvl",
+        data=bytes(12) + np.array([4000, 4000], "<u4").tobytes() + bytes(8),
+    )
+    with pytest.raises(ValueError, match="says 4000x4000 pixels"):
+        depth_image(lying)
+
+
 def test_a_live_nodes_messages_convert_as_a_bags_do():
     # rclpy's messages carry no rosbags type name and hold their pixels as bytes: the converters
     # read them by their fields. Big-endian depth, and row padding, as a driver may send them.
@@ -558,13 +637,13 @@ def test_a_live_nodes_messages_convert_as_a_bags_do():
     PILImage.fromarray(np.full((4, 4, 3), 200, np.uint8)).save(encoded, "PNG")
     png = SimpleNamespace(format="png", data=encoded.getvalue())
     np.testing.assert_array_equal(colour_image(png), np.full((4, 4, 3), 200, np.uint8))
-    with pytest.raises(ValueError, match="depth format 'png' is not compressedDepth in PNG of 16UC1"):
+    with pytest.raises(ValueError, match="depth format 'png' is not compressedDepth of 16UC1"):
         depth_image(png)
     # image_transport's compressedDepth of 16UC1: a 12-byte header, then a PNG of the millimetres.
     encoded = BytesIO()
     PILImage.fromarray(mm.astype(np.uint16)).save(encoded, "PNG")
     packed = SimpleNamespace(format="16UC1; compressedDepth png", data=bytes(12) + encoded.getvalue())
-    np.testing.assert_allclose(depth_image(packed), mm.astype(np.float32) / 1000)
+    np.testing.assert_allclose(depth_image(packed), mm.astype(np.float32) / 1000, rtol=1e-6)
     # Of 32FC1: a PNG of the inverse depth, quantised as image_transport's encoder does with its
     # defaults (depth_max 10 m, depth_quantization 100), the two floats in the header.
     metres = np.array([[0.5, 1.0, 2.25], [4.0, 6.5, 0.0], [np.nan, 12.0, 9.9]], np.float32)
@@ -582,8 +661,8 @@ def test_a_live_nodes_messages_convert_as_a_bags_do():
     # One step of the inverse depth is depth squared over a: under 2 mm at 4 m, 4.2 mm at 6.5 m.
     np.testing.assert_allclose(read, expected, atol=float(6.5**2 / a) + 1e-6)
     assert read[1, 2] == 0 and read[2, 0] == 0 and read[2, 1] == 0
-    with pytest.raises(ValueError, match="depth format '16UC1; compressedDepth rvl' is not"):
-        depth_image(SimpleNamespace(format="16UC1; compressedDepth rvl", data=bytes(20)))
+    with pytest.raises(ValueError, match="depth format '8UC3; compressedDepth png' is not"):
+        depth_image(SimpleNamespace(format="8UC3; compressedDepth png", data=bytes(20)))
     with pytest.raises(ValueError, match="does not hold 2 rows of 9"):
         colour_image(
             SimpleNamespace(encoding="rgb8", height=2, width=3, step=9, is_bigendian=0, data=bytes(10))
