@@ -608,6 +608,8 @@ def test_rvl_decodes_what_image_transports_encoder_writes():
     np.testing.assert_allclose(depth_image(inverse), expected, rtol=1e-6)
     with pytest.raises(ValueError, match="RVL stream ends after"):
         rvl_decode(rvl_encode(mm)[:40], mm.size)
+    with pytest.raises(ValueError, match="holds no word for 3 pixels"):
+        rvl_decode(b"", 3)
     with pytest.raises(ValueError, match="runs past the image's 3 pixels"):
         rvl_decode(rvl_encode([0, 0, 0, 7]), 3)
     lying = SimpleNamespace(

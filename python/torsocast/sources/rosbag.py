@@ -147,6 +147,8 @@ def rvl_decode(stream: bytes, pixels: int) -> npt.NDArray[np.uint16]:
     nibbles of three bits, the lowest first, the fourth bit set where another follows; runs of a
     count of zeros, a count of nonzero pixels and each of those as the zigzagged difference
     from the nonzero pixel before. Decoded whole in NumPy, the runs walked in Python."""
+    if len(stream) < 4:
+        raise ValueError(f"RVL stream of {len(stream)} bytes holds no word for {pixels} pixels")
     # Each word's bytes from its most significant, each byte's high nibble first.
     octets = np.frombuffer(stream[: len(stream) // 4 * 4], np.uint8).reshape(-1, 4)[:, ::-1].ravel()
     nibbles = np.empty(2 * len(octets), np.int64)
