@@ -269,6 +269,19 @@ def test_a_driving_robot_places_its_camera_where_the_transforms_put_it_at_each_s
         np.testing.assert_allclose(got.camera.camera_to_world, expected, atol=1e-9)
 
 
+def depth_message(T, header, mm):
+    """A 16UC1 Image message of the millimetres ``mm``, its rows unpadded."""
+    return T["sensor_msgs/msg/Image"](
+        header=header,
+        height=mm.shape[0],
+        width=mm.shape[1],
+        encoding="16UC1",
+        is_bigendian=0,
+        step=mm.shape[1] * 2,
+        data=mm.view(np.uint8).ravel(),
+    )
+
+
 def test_a_drivers_compressed_copy_and_its_sensors_own_depth_are_passed_over(frames, tmp_path):
     # As a RealSense driver records: the colour's JPEG copy beside the raw topic, the depth
     # sensor's own images (here half the colour's size) beside the ones registered to colour,
@@ -282,15 +295,7 @@ def test_a_drivers_compressed_copy_and_its_sensors_own_depth_are_passed_over(fra
     copy = T["sensor_msgs/msg/CompressedImage"](header=header, format="jpeg", data=data)
     header = T["std_msgs/msg/Header"](stamp=time, frame_id="camera_depth_optical_frame")
     small = np.zeros((frames[0].color.shape[0] // 2, frames[0].color.shape[1] // 2), np.uint16)
-    own = T["sensor_msgs/msg/Image"](
-        header=header,
-        height=small.shape[0],
-        width=small.shape[1],
-        encoding="16UC1",
-        is_bigendian=0,
-        step=small.shape[1] * 2,
-        data=small.view(np.uint8).ravel(),
-    )
+    own = depth_message(T, header, small)
     png = BytesIO()
     PILImage.fromarray(np.zeros(frames[0].color.shape[:2], np.uint16)).save(png, "PNG")
     data = np.frombuffer(bytes(12) + png.getvalue(), np.uint8)
@@ -333,15 +338,7 @@ def test_the_sensors_own_depth_at_the_colours_size_is_told_by_its_frame(frames, 
     fields = {"seq": 0} if ros == 1 else {}
     header = T["std_msgs/msg/Header"](**fields, stamp=time, frame_id="camera_depth_optical_frame")
     ones = np.full(frames[0].color.shape[:2], 1000, np.uint16)  # 1 m everywhere: not the scene's
-    own = T["sensor_msgs/msg/Image"](
-        header=header,
-        height=ones.shape[0],
-        width=ones.shape[1],
-        encoding="16UC1",
-        is_bigendian=0,
-        step=ones.shape[1] * 2,
-        data=ones.view(np.uint8).ravel(),
-    )
+    own = depth_message(T, header, ones)
     extra = [("/camera/depth/image_rect_raw", "sensor_msgs/msg/Image", [(EPOCH + frames[0].time, own)])]
     path = write_bag(
         tmp_path / ("same_size.bag" if ros == 1 else "same_size"), frames[:2], ros=ros, extra=extra
