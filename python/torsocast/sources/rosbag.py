@@ -5,7 +5,7 @@ What a robot records: a colour image topic (``sensor_msgs/Image`` in rgb8, bgr8,
 mono8, or ``sensor_msgs/CompressedImage`` in JPEG or PNG), a depth image topic registered to it
 (``sensor_msgs/Image`` in 16UC1 millimetres or 32FC1 metres, as a RealSense's
 ``aligned_depth_to_color`` or a Kinect's registered depth, or image_transport's
-``compressedDepth`` in PNG of either), the colour camera's
+``compressedDepth``, in PNG or RVL, of either), the colour camera's
 ``sensor_msgs/CameraInfo`` and the transforms (``/tf``, ``/tf_static``). Each colour image
 becomes a frame at its header's stamp, with the depth image nearest in time (within
 :data:`~.frame.PAIRING_TOLERANCE`; none nearer: a colour-only frame) and the camera's pose in the
@@ -39,7 +39,7 @@ CAMERA_INFO, TF = "sensor_msgs/msg/CameraInfo", "tf2_msgs/msg/TFMessage"
 COLOUR_ENCODINGS = ("rgb8", "bgr8", "rgba8", "bgra8", "mono8")
 #: Depth encodings and their metres per unit.
 DEPTH_ENCODINGS = {"16UC1": 0.001, "mono16": 0.001, "32FC1": 1.0}
-#: Bytes before the PNG in image_transport's compressedDepth data (its ConfigHeader: the
+#: Bytes before the PNG or RVL data in image_transport's compressedDepth (its ConfigHeader: the
 #: format, then two floats of 32FC1's inverse-depth quantisation, unused for 16UC1).
 COMPRESSED_DEPTH_HEADER = 12
 #: The encodings image_transport's compressedDepth carries: 16UC1 as the millimetres themselves,
