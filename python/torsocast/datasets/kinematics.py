@@ -48,6 +48,24 @@ def rotmat_to_expmap(rotation: F64) -> F64:
     return 0.5 * scale * skew
 
 
+def rotmat_to_euler(rotation: F64) -> F64:
+    """The Euler angles ``(..., 3)`` of rotations ``(..., 3, 3)`` as the motion-prediction
+    literature computes them (``rotmat2euler`` of its reference code, gimbal lock included),
+    for the joint-angle error it reports."""
+    rotation = np.asarray(rotation, dtype=np.float64)
+    r02 = rotation[..., 0, 2]
+    locked = np.abs(r02) == 1.0
+    e2 = np.where(locked, -np.sign(r02) * np.pi / 2, -np.arcsin(np.clip(r02, -1.0, 1.0)))
+    cos = np.where(locked, 1.0, np.cos(e2))
+    e1 = np.where(
+        locked,
+        np.arctan2(rotation[..., 0, 1], r02),
+        np.arctan2(rotation[..., 1, 2] / cos, rotation[..., 2, 2] / cos),
+    )
+    e3 = np.where(locked, 0.0, np.arctan2(rotation[..., 0, 1] / cos, rotation[..., 0, 0] / cos))
+    return np.stack([e1, e2, e3], axis=-1)
+
+
 def chain(parents: npt.ArrayLike, offsets: F64, root_rotation: F64, root_position: F64, local: F64) -> F64:
     """Global joint positions ``(frames, joints, 3)`` from the root's rotation ``(frames, 3, 3)`` and
     position ``(frames, 3)`` and every joint's local rotation ``(frames, joints, 3, 3)`` (the root's

@@ -16,7 +16,7 @@ import numpy as np
 
 from .._core import ForecasterConfig, forecast_batch
 from ..datasets import h36m
-from . import hmp, metrics, protocol
+from . import hmp, joint_angles, metrics, protocol
 from .methods import HMP_LABEL, LABELS, describe, method_configs
 
 #: Forecast steps 1..50 of 40 ms: the per-step curve from 40 ms to 2 s.
@@ -175,6 +175,8 @@ def evaluate(
             "label": HMP_LABEL,
             "config": hmp_model.describe(),
             "steps_without_plane": carried,
+            # The paper's own measure, to check the model against it.
+            "joint_angles": joint_angles.evaluate(data, subjects, hmp_model),
         }
     return {
         "dataset": "Human3.6M (exponential-map files)",

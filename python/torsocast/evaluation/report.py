@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from . import thesis
+from .joint_angles import MILLISECONDS
 from .metrics import HORIZONS, QUANTITIES, UNITS
 
 HORIZON_NAMES = {10: "400 ms", 25: "1 s", 50: "2 s"}
@@ -111,6 +112,19 @@ def methods_table(report: dict[str, Any], group: str = "All", statistic: str = "
     return "\n".join(lines)
 
 
+def joint_angles_table(errors: dict[str, dict[str, list[float]]]) -> str:
+    """Zero velocity's and HMP's joint-angle errors per action, as Martinez et al.'s table 1."""
+    steps = " / ".join(str(ms) for ms in MILLISECONDS)
+    lines = [
+        f"| action | zero velocity, {steps} ms | HMP, {steps} ms |",
+        "|---|---|---|",
+    ]
+    for action, values in errors.items():
+        held, learned = (" / ".join(f"{v:.2f}" for v in values[k]) for k in ("zero_velocity", "hmp"))
+        lines.append(f"| {action} | {held} | {learned} |")
+    return "\n".join(lines)
+
+
 def markdown(report: dict[str, Any]) -> str:
     w = report["windows"]
     parts = [
@@ -135,6 +149,11 @@ def markdown(report: dict[str, Any]) -> str:
         parts += [f"## Table {number}, degrees", table_5_3(report, quantity)]
     for quantity, number in (("azimuth", "5.4"), ("elevation", "5.5")):
         parts += [f"## Table {number}: {quantity} at 400 ms per action, degrees", table_5_4(report, quantity)]
+    if "hmp" in report["methods"]:
+        parts += [
+            "## HMP on the literature's measure: joint angles (Euler, radians), seeded windows",
+            joint_angles_table(report["methods"]["hmp"]["joint_angles"]),
+        ]
     for group in report["categories"]:
         parts += [f"## All methods, {group}: mean over the window", methods_table(report, group)]
     parts += ["## All methods, All: error at the window's end", methods_table(report, "All", "end")]
