@@ -101,6 +101,7 @@ def write_bag(
     mount="base_link",
     without_depth=(),
     compressed_depth=False,
+    tf_type="tf2_msgs/msg/TFMessage",
 ):
     """``frames`` as a robot records them: colour (``encoding``, rows padded) and registered
     depth in millimetres (stamped ``depth_lag`` s later) in the RealSense driver's topics, its
@@ -109,11 +110,12 @@ def write_bag(
     a ROS 1 bag (``ros`` 1), or a ROS 2 one in SQLite (2) or MCAP storage. ``extra``: more
     (topic, message type, [(stamp, message)]) to record; the frames numbered in
     ``without_depth`` have no depth image; with ``compressed_depth`` (True or "png", or "rvl") the
-    depth is recorded as image_transport's compressedDepth alone."""
+    depth is recorded as image_transport's compressedDepth alone; ``tf_type`` is the transforms'
+    message (a ROS 1 bag of before tf2 records tf's own ``tf/msg/tfMessage``)."""
     store = get_typestore(Stores.ROS1_NOETIC if ros == 1 else Stores.ROS2_HUMBLE)
     if ros == 1:  # Noetic's store lacks tf2's message; a ROS 1 bag carries its definition
         tf = "geometry_msgs/TransformStamped[] transforms"
-        store.register(get_types_from_msg(tf, "tf2_msgs/msg/TFMessage"))
+        store.register(get_types_from_msg(tf, tf_type))
     T = store.types
     writer: Any
     serialize: Any
@@ -173,12 +175,10 @@ def write_bag(
     info |= dict(zip(("k", "d", "r", "p") if ros != 1 else ("K", "D", "R", "P"), calib))
     roi = T["sensor_msgs/msg/RegionOfInterest"](x_offset=0, y_offset=0, height=0, width=0, do_rectify=False)
     camera_info = T["sensor_msgs/msg/CameraInfo"](header=header(start), **info, roi=roi)
-    mounted = T["tf2_msgs/msg/TFMessage"](
-        transforms=[transform(start, mount, "camera_color_optical_frame", on_robot)]
-    )
+    mounted = T[tf_type](transforms=[transform(start, mount, "camera_color_optical_frame", on_robot)])
     messages = [
         ("/camera/color/camera_info", "sensor_msgs/msg/CameraInfo", [(start, camera_info)]),
-        ("/tf_static", "tf2_msgs/msg/TFMessage", [(start, mounted)]),
+        ("/tf_static", tf_type, [(start, mounted)]),
     ]
     drives = []
     for t in np.arange(start - 0.1, EPOCH + frames[-1].time + 0.1, 0.02):
@@ -187,8 +187,8 @@ def write_bag(
         wheel = np.eye(4)
         wheel[:3, :3] = Rotation.from_euler("y", 5.0 * (t - start)).as_matrix()  # a joint on /tf too
         robot_now = [transform(t, "odom", "base_link", moved), transform(t, "base_link", "wheel", wheel)]
-        drives.append((t, T["tf2_msgs/msg/TFMessage"](transforms=robot_now)))
-    messages.append(("/tf", "tf2_msgs/msg/TFMessage", drives))
+        drives.append((t, T[tf_type](transforms=robot_now)))
+    messages.append(("/tf", tf_type, drives))
     pictures = []
     depths = []
     for k, f in enumerate(frames):
@@ -257,9 +257,15 @@ def test_a_bags_compressed_depth_reads_as_its_raw_depth(frames, tmp_path, packin
         np.testing.assert_allclose(got.depth, made.depth, atol=0.0005 + 1e-6)
 
 
-def test_a_driving_robot_places_its_camera_where_the_transforms_put_it_at_each_stamp(frames, tmp_path):
+@pytest.mark.parametrize(
+    ("ros", "tf_type"), [(2, "tf2_msgs/msg/TFMessage"), (1, "tf/msg/tfMessage")], ids=["tf2", "ros1-tf"]
+)
+def test_a_driving_robot_places_its_camera_where_the_transforms_put_it_at_each_stamp(
+    frames, tmp_path, ros, tf_type
+):
     drive = np.array([0.5, -0.2, 0.0])
-    bag = RosBag(write_bag(tmp_path / "drive", frames, drive=drive))
+    path = tmp_path / ("drive.bag" if ros == 1 else "drive")
+    bag = RosBag(write_bag(path, frames, ros=ros, drive=drive, tf_type=tf_type))
     # The wheel's transforms are known to the tree's shape, and not kept: not the camera's chain.
     assert "wheel" in bag.tree and set(bag.tree.edges) == {"base_link", "camera_color_optical_frame"}
     for got, made in zip(read(bag), frames):

@@ -35,7 +35,9 @@ from .frame import PAIRING_TOLERANCE, READ_ERRORS, Frame, SkippedFrame
 from .transforms import F64, TransformLookupError, TransformTree
 
 IMAGE, COMPRESSED = "sensor_msgs/msg/Image", "sensor_msgs/msg/CompressedImage"
-CAMERA_INFO, TF = "sensor_msgs/msg/CameraInfo", "tf2_msgs/msg/TFMessage"
+CAMERA_INFO = "sensor_msgs/msg/CameraInfo"
+#: The transforms' messages: tf2's, and ROS 1's tf of before tf2, which has the same fields.
+TF = ("tf2_msgs/msg/TFMessage", "tf/msg/tfMessage")
 COLOUR_ENCODINGS = ("rgb8", "bgr8", "rgba8", "bgra8", "mono8")
 #: Depth encodings and their metres per unit.
 DEPTH_ENCODINGS = {"16UC1": 0.001, "mono16": 0.001, "32FC1": 1.0}
@@ -305,7 +307,7 @@ class RosBag:
     def _tf(bag: Any) -> Iterator[tuple[str, str, float, F64, F64, bool]]:
         """Every transform on ``/tf`` and ``/tf_static``: parent, child, stamp, translation,
         quaternion ``[x, y, z, w]``, and whether static."""
-        for conn in [c for c in bag.connections if c.msgtype == TF]:
+        for conn in [c for c in bag.connections if c.msgtype in TF]:
             static = conn.topic.endswith("tf_static")
             for _, _, raw in bag.messages(connections=[conn]):
                 for tf in bag.deserialize(raw, conn.msgtype).transforms:
