@@ -13,7 +13,7 @@ from torsocast import wrap_angle
 from torsocast.datasets import h36m
 from torsocast.datasets.kinematics import rotmat_to_euler, rotmat_to_expmap
 from torsocast.evaluation import hmp, joint_angles
-from torsocast.evaluation.h36m import evaluate
+from torsocast.evaluation.h36m import evaluate, load
 from torsocast.evaluation.methods import method_configs
 
 
@@ -152,7 +152,8 @@ def test_zero_velocity_on_the_literatures_measure_is_martinez_et_als_table_1(h36
         (1,),
         hmp.Training(units=4, iterations=1),
     )
-    errors = joint_angles.evaluate(h36m_root, (5,), model)
+    sequences, _ = load(h36m_root, (5,))
+    errors = joint_angles.evaluate(sequences, model)
     for action, row in published.items():
         assert [round(v, 2) for v in errors[action]["zero_velocity"]] == row
         assert len(errors[action]["hmp"]) == 4 and np.all(np.isfinite(errors[action]["hmp"]))

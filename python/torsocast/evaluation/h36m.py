@@ -176,7 +176,7 @@ def evaluate(
             "config": hmp_model.describe(),
             "steps_without_plane": carried,
             # The paper's own measure, to check the model against it.
-            "joint_angles": joint_angles.evaluate(data, subjects, hmp_model),
+            "joint_angles": joint_angles.evaluate(sequences, hmp_model),
         }
     return {
         "dataset": "Human3.6M (exponential-map files)",

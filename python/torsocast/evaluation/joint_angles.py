@@ -8,7 +8,6 @@ translation and rotation left out), averaged over the windows, at 80, 160, 320 a
 from __future__ import annotations
 
 from collections.abc import Sequence
-from pathlib import Path
 
 import numpy as np
 import numpy.typing as npt
@@ -45,31 +44,29 @@ def window_error(truth: F64, forecast: F64, moving: F64) -> F64:
     return np.sqrt(((truth[:, used] - forecast[:, used]) ** 2).sum(axis=1))
 
 
-def evaluate(
-    data: str | Path, subjects: Sequence[int], model: hmp.Model
-) -> dict[str, dict[str, list[float]]]:
-    """For each action with both subactions of a subject, zero velocity's and ``model``'s errors
-    at :data:`MILLISECONDS`, over the seeded windows of every subject given."""
-    out: dict[str, dict[str, list[float]]] = {}
+def evaluate(sequences: Sequence[h36m.Sequence], model: hmp.Model) -> dict[str, dict[str, list[float]]]:
+    """For each action of ``sequences`` with both subactions, zero velocity's and ``model``'s
+    errors at :data:`MILLISECONDS` over its seeded windows (:func:`.protocol.select`'s
+    ``"seeds"``, the frames each sequence keeps)."""
+    windows = protocol.select(list(sequences), "seeds")
+    by_name = {s.name: s for s in sequences}
     steps = STEPS[-1] + 1
-    for action in h36m.ACTIONS:
+    out: dict[str, dict[str, list[float]]] = {}
+    for action in dict.fromkeys(windows.action):
+        picks = np.flatnonzero(windows.action == action)
+        frames = [by_name[windows.sequence[i]].frames for i in picks]
+        starts = [int(windows.start[i]) for i in picks]
+        history = np.stack([f[start - protocol.HISTORY : start] for f, start in zip(frames, starts)])
+        forecasts = model.forecast(history, str(action), steps)
         held, learned = [], []
-        for subject in subjects:
-            if {sub for a, sub in h36m.available(data, subject) if a == action} != {1, 2}:
-                continue
-            frames = {sub: h36m.read_frames(data, subject, action, sub) for sub in (1, 2)}
-            starts = protocol.srnn_starts(len(frames[1]), len(frames[2]))
-            history = np.stack([frames[sub][start - protocol.HISTORY : start] for sub, start in starts])
-            forecasts = model.forecast(history, action, steps)
-            for (sub, start), seen, forecast in zip(starts, history, forecasts):
-                truth = euler(frames[sub][start : start + steps])
-                last = euler(np.repeat(seen[-1:], steps, axis=0))
-                held.append(window_error(truth, last, truth))
-                predicted = euler(forecast)
-                learned.append(window_error(truth, predicted, predicted))
-        if held:
-            out[action] = {
-                "zero_velocity": [float(v) for v in np.mean(held, axis=0)[list(STEPS)]],
-                "hmp": [float(v) for v in np.mean(learned, axis=0)[list(STEPS)]],
-            }
+        for f, start, seen, forecast in zip(frames, starts, history, forecasts):
+            truth = euler(f[start : start + steps])
+            last = euler(np.repeat(seen[-1:], steps, axis=0))
+            held.append(window_error(truth, last, truth))
+            predicted = euler(forecast)
+            learned.append(window_error(truth, predicted, predicted))
+        out[str(action)] = {
+            "zero_velocity": [float(v) for v in np.mean(held, axis=0)[list(STEPS)]],
+            "hmp": [float(v) for v in np.mean(learned, axis=0)[list(STEPS)]],
+        }
     return out
