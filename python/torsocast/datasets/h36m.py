@@ -311,10 +311,7 @@ def load_sequence(
 ) -> Sequence:
     """Reads one file and returns its torso pose series at 25 Hz (even rows of the 50 Hz file, as
     the literature does; the root is integrated at 50 Hz first, since its columns are increments)."""
-    path = sequence_path(root, subject, action, subaction)
-    if not path.is_file():
-        raise FileNotFoundError(f"{path}: no such Human3.6M file")
-    channels = read_expmap(path)
+    channels = _read_take(root, subject, action, subaction)
     root_rotation, root_position = integrate_root(channels)
     joints = posed_joints(channels, root_rotation, root_position)
     gravity = estimate_gravity(joints, gravity_rule)
@@ -334,11 +331,15 @@ def load_sequence(
 
 def read_frames(root: str | Path, subject: int, action: str, subaction: int) -> F64:
     """One file's 25 Hz frames as a whole-body motion model reads them (:func:`subsample`)."""
+    channels = _read_take(root, subject, action, subaction)
+    return subsample(channels, *integrate_root(channels))
+
+
+def _read_take(root: str | Path, subject: int, action: str, subaction: int) -> F64:
     path = sequence_path(root, subject, action, subaction)
     if not path.is_file():
         raise FileNotFoundError(f"{path}: no such Human3.6M file")
-    channels = read_expmap(path)
-    return subsample(channels, *integrate_root(channels))
+    return read_expmap(path)
 
 
 def forecast_poses(
