@@ -102,15 +102,17 @@ def depth_image(message: Any) -> npt.NDArray[np.float32]:
     RVL stream of 16UC1's millimetres, or of 32FC1's inverse depth quantised by the header's two
     floats ``a`` and ``b``: depth ``a / (value - b)``, 0 for no reading)."""
     if _compressed(message):
-        if not _is_depth(message):
+        packed = _packed_depth(message.format)
+        if packed is None or not _is_depth(message):
             encodings = ", ".join(COMPRESSED_DEPTH_ENCODINGS)
             raise ValueError(
                 f"depth format {message.format!r} is not compressedDepth of {encodings} "
                 f"(nor an Image in one of {', '.join(DEPTH_ENCODINGS)})"
             )
+        encoding, packing = packed
         data = bytes(message.data)
-        raw = _compressed_depth_values(message.format, data[COMPRESSED_DEPTH_HEADER:]).astype(np.float32)
-        if message.format.split(";")[0].strip() == "32FC1":
+        raw = _compressed_depth_values(packing, data[COMPRESSED_DEPTH_HEADER:]).astype(np.float32)
+        if encoding == "32FC1":
             a, b = np.frombuffer(data[4:COMPRESSED_DEPTH_HEADER], dtype="<f4")
             with np.errstate(divide="ignore"):
                 depth = np.where(raw > 0, a / (raw - b), np.float32(0.0)).astype(np.float32)
@@ -128,10 +130,19 @@ def depth_image(message: Any) -> npt.NDArray[np.float32]:
     return depth
 
 
-def _compressed_depth_values(form: str, data: bytes) -> npt.NDArray[np.uint16]:
+def _packed_depth(form: str) -> tuple[str, str] | None:
+    """The encoding and the packing (``"png"`` or ``"rvl"``) of image_transport's compressedDepth
+    format (``"16UC1; compressedDepth png"``; a format without the packing is PNG, as its decoder
+    reads it); None for a format that is not compressedDepth."""
+    if "compressedDepth" not in form:
+        return None
+    return form.split(";")[0].strip(), "rvl" if "compressedDepth rvl" in form else "png"
+
+
+def _compressed_depth_values(packing: str, data: bytes) -> npt.NDArray[np.uint16]:
     """The ``(h, w)`` values image_transport's compressedDepth stores after its header: a PNG,
     or in RVL the width and height (two little-endian uint32) and then the RVL stream."""
-    if "compressedDepth rvl" not in form:
+    if packing != "rvl":
         with PILImage.open(BytesIO(data)) as image:
             return np.asarray(image, dtype=np.uint16)
     if len(data) < 8:
@@ -380,15 +391,14 @@ class RosBag:
 
 def _is_colour(message: Any) -> bool:
     if _compressed(message):
-        return "compressedDepth" not in message.format
+        return _packed_depth(message.format) is None
     return message.encoding in COLOUR_ENCODINGS
 
 
 def _is_depth(message: Any) -> bool:
-    if _compressed(message):  # image_transport's format: "16UC1; compressedDepth png" (or rvl)
-        form = message.format
-        encoding = form.split(";")[0].strip()
-        return "compressedDepth" in form and encoding in COMPRESSED_DEPTH_ENCODINGS
+    if _compressed(message):
+        packed = _packed_depth(message.format)
+        return packed is not None and packed[0] in COMPRESSED_DEPTH_ENCODINGS
     return message.encoding in DEPTH_ENCODINGS
 
 
@@ -437,13 +447,14 @@ def _size(message: Any) -> tuple[int, int] | None:
     (its frame is skipped when read)."""
     if not _compressed(message):
         return int(message.height), int(message.width)
-    if "compressedDepth rvl" in message.format:
+    packed = _packed_depth(message.format)
+    if packed is not None and packed[1] == "rvl":
         size = bytes(message.data)[COMPRESSED_DEPTH_HEADER : COMPRESSED_DEPTH_HEADER + 8]
         if len(size) < 8:
             return None
         width, height = (int(v) for v in np.frombuffer(size, "<u4"))
         return height, width
-    skip = COMPRESSED_DEPTH_HEADER if "compressedDepth" in message.format else 0
+    skip = 0 if packed is None else COMPRESSED_DEPTH_HEADER
     try:
         with PILImage.open(BytesIO(bytes(message.data)[skip:])) as image:
             return image.height, image.width
