@@ -46,19 +46,17 @@ class Intrinsics:
     @property
     def coefficients(self) -> tuple[float, float, float, float, float]:
         """``(k1, k2, p1, p2, k3)``, zero-padded."""
-        k = tuple(float(v) for v in self._coefficients())
+        # Plain tuples, not NumPy: the pipeline reads this every frame.
+        k = (*map(float, self.distortion), *(0.0,) * (5 - len(self.distortion)))
         return k  # type: ignore[return-value]
 
     @property
     def matrix(self) -> F64:
         return np.array([[self.fx, 0.0, self.cx], [0.0, self.fy, self.cy], [0.0, 0.0, 1.0]])
 
-    def _coefficients(self) -> F64:
-        return np.pad(np.asarray(self.distortion, dtype=np.float64), (0, 5 - len(self.distortion)))
-
     def distort(self, xy: F64) -> F64:
         """Normalised undistorted ``(..., 2)`` to normalised distorted coordinates."""
-        k1, k2, p1, p2, k3 = self._coefficients()
+        k1, k2, p1, p2, k3 = self.coefficients
         x, y = xy[..., 0], xy[..., 1]
         r2 = x * x + y * y
         radial = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3))
