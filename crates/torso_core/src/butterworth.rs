@@ -243,23 +243,32 @@ impl SosFilter {
     /// Causal filtering of a window in place, starting in steady state at its first sample:
     /// `sosfilt(sos, x, zi=sosfilt_zi(sos) * x[0])`.
     pub fn filter_from_steady_state(&self, x: &mut [f64]) {
-        if let Some(&x0) = x.first() {
-            self.cascade(x0, x, false);
-        }
+        self.cascade(x, false);
     }
 
     /// Runs a whole window through the cascade, one section after the other, each starting in
-    /// its steady state for a constant input `x0`. Section by section, the state stays in
-    /// registers; sample by sample (as [`SosFilter::step`]), a window took 2.5 times as long.
-    /// Each sample meets the same operations in the same order either way.
-    fn cascade(&self, x0: f64, x: &mut [f64], backward: bool) {
+    /// its steady state for a constant input at the window's first sample (its last, running
+    /// `backward`). Section by section, the state stays in registers; sample by sample (as
+    /// [`SosFilter::step`]), a window took 2.5 times as long. Each sample meets the same
+    /// operations in the same order either way, and in every lane of a [`Lanes`] sample.
+    fn cascade<T: Lanes>(&self, x: &mut [T], backward: bool) {
+        let Some(&(mut x0)) = (if backward { x.last() } else { x.first() }) else {
+            return;
+        };
+        let x0 = x0.values();
         for (s, zi) in self.sections.iter().zip(&self.zi) {
-            let (mut z0, mut z1) = (zi[0] * x0, zi[1] * x0);
-            let mut section = |v: &mut f64| {
-                let y = s[0] * *v + z0;
-                z0 = s[1] * *v - s[4] * y + z1;
-                z1 = s[2] * *v - s[5] * y;
-                *v = y;
+            let (mut z0, mut z1) = (T::splat(0.0), T::splat(0.0));
+            for ((a, b), v) in z0.values().iter_mut().zip(z1.values()).zip(&*x0) {
+                (*a, *b) = (zi[0] * v, zi[1] * v);
+            }
+            let mut section = |t: &mut T| {
+                let lanes = t.values().iter_mut().zip(z0.values()).zip(z1.values());
+                for ((v, z0), z1) in lanes {
+                    let y = s[0] * *v + *z0;
+                    *z0 = s[1] * *v - s[4] * y + *z1;
+                    *z1 = s[2] * *v - s[5] * y;
+                    *v = y;
+                }
             };
             if backward {
                 x.iter_mut().rev().for_each(&mut section);
@@ -349,28 +358,78 @@ impl LowPass {
 /// assert!((out[25] - ramp[25]).abs() < 1e-9 && (out[49] - ramp[49]).abs() < 1e-4);
 /// ```
 #[derive(Clone, Debug)]
-pub struct ZeroPhase {
-    filter: SosFilter,
-    padlen: usize,
-    capacity: usize,
-    extended: Vec<f64>,
-}
+pub struct ZeroPhase(ForwardBackward<f64>);
 
 impl ZeroPhase {
     pub fn new(filter: SosFilter, capacity: usize) -> Self {
+        Self(ForwardBackward::new(filter, capacity))
+    }
+
+    /// Filters `x` into `out` (same length, at most `capacity`).
+    pub fn apply(&mut self, x: &[f64], out: &mut [f64]) -> Result<()> {
+        crate::error::check_len("out", out.len(), x.len())?;
+        self.0.check_len(x.len())?;
+        check_samples("x", x)?;
+        out.copy_from_slice(self.0.filter(x.len(), |i| x[i]));
+        Ok(())
+    }
+
+    pub fn padlen(&self) -> usize {
+        self.0.padlen
+    }
+}
+
+/// A sample of the filters: one series' value (`f64`), or the values of several series
+/// filtered side by side (`[f64; L]`), whose recursions are independent, so that their
+/// latencies overlap instead of adding up.
+pub(crate) trait Lanes: Copy {
+    fn splat(value: f64) -> Self;
+    fn values(&mut self) -> &mut [f64];
+}
+
+impl Lanes for f64 {
+    fn splat(value: f64) -> Self {
+        value
+    }
+
+    fn values(&mut self) -> &mut [f64] {
+        std::slice::from_mut(self)
+    }
+}
+
+impl<const L: usize> Lanes for [f64; L] {
+    fn splat(value: f64) -> Self {
+        [value; L]
+    }
+
+    fn values(&mut self) -> &mut [f64] {
+        self
+    }
+}
+
+/// [`ZeroPhase`] of [`Lanes`] samples: each lane filtered as [`ZeroPhase::apply`] filters one
+/// series.
+#[derive(Clone, Debug)]
+pub(crate) struct ForwardBackward<T> {
+    filter: SosFilter,
+    padlen: usize,
+    capacity: usize,
+    extended: Vec<T>,
+}
+
+impl<T: Lanes> ForwardBackward<T> {
+    pub(crate) fn new(filter: SosFilter, capacity: usize) -> Self {
         let padlen = filter.default_padlen();
         Self {
             filter,
             padlen,
             capacity,
-            extended: vec![0.0; capacity + 2 * padlen],
+            extended: vec![T::splat(0.0); capacity + 2 * padlen],
         }
     }
 
-    /// Filters `x` into `out` (same length, at most `capacity`).
-    pub fn apply(&mut self, x: &[f64], out: &mut [f64]) -> Result<()> {
-        let n = x.len();
-        crate::error::check_len("out", out.len(), n)?;
+    /// Refuses a window longer than the capacity.
+    pub(crate) fn check_len(&self, n: usize) -> Result<()> {
         if n > self.capacity {
             return Err(Error::LengthMismatch {
                 name: "x",
@@ -378,29 +437,38 @@ impl ZeroPhase {
                 got: n,
             });
         }
-        check_samples("x", x)?;
-        if n < 2 {
-            out.copy_from_slice(x);
-            return Ok(());
-        }
-        let edge = if n > self.padlen { self.padlen } else { n - 1 };
-        let ext = &mut self.extended[..n + 2 * edge];
-        // Odd extension: 2 x[0] - x[edge..0], x, 2 x[-1] - x[-2..-edge-2].
-        for i in 0..edge {
-            ext[i] = 2.0 * x[0] - x[edge - i];
-            ext[edge + n + i] = 2.0 * x[n - 1] - x[n - 2 - i];
-        }
-        ext[edge..edge + n].copy_from_slice(x);
-        self.filter.filter_from_steady_state(ext);
-        // The backward pass runs over the same buffer from its end: no reversal copies.
-        let last = ext[ext.len() - 1];
-        self.filter.cascade(last, ext, true);
-        out.copy_from_slice(&ext[edge..edge + n]);
         Ok(())
     }
 
-    pub fn padlen(&self) -> usize {
-        self.padlen
+    /// The window `x(0), ..., x(n - 1)` (`n` at most the capacity) filtered forward and
+    /// backward; a window under two samples as it is.
+    pub(crate) fn filter(&mut self, n: usize, x: impl Fn(usize) -> T) -> &[T] {
+        let edge = if n > self.padlen {
+            self.padlen
+        } else {
+            n.max(1) - 1
+        };
+        let ext = &mut self.extended[..n + 2 * edge];
+        // Odd extension: 2 x[0] - x[edge..0], x, 2 x[-1] - x[-2..-edge-2].
+        let odd = |mut end: T, mut inner: T| {
+            for (e, v) in end.values().iter_mut().zip(inner.values()) {
+                *e = 2.0 * *e - *v;
+            }
+            end
+        };
+        for i in 0..edge {
+            ext[i] = odd(x(0), x(edge - i));
+            ext[edge + n + i] = odd(x(n - 1), x(n - 2 - i));
+        }
+        for (i, e) in ext[edge..edge + n].iter_mut().enumerate() {
+            *e = x(i);
+        }
+        if n >= 2 {
+            self.filter.cascade(ext, false);
+            // The backward pass runs over the same buffer from its end: no reversal copies.
+            self.filter.cascade(ext, true);
+        }
+        &ext[edge..edge + n]
     }
 }
 

@@ -5,7 +5,7 @@ use super::{
     Derivatives, Extrapolation, FilterMode, FilterSplineConfig, LambdaUnit, MIN_RELATIVE_WEIGHT,
 };
 use crate::bspline::MAX_DEGREE;
-use crate::butterworth::{design_lowpass, SosFilter, ZeroPhase};
+use crate::butterworth::{check_samples, design_lowpass, ForwardBackward, SosFilter};
 use crate::error::{Error, Result};
 use crate::history::History;
 use crate::smoothing::SmoothingSpline;
@@ -14,7 +14,8 @@ use crate::smoothing::SmoothingSpline;
 pub(super) struct SplineEngine {
     pub(super) cfg: FilterSplineConfig,
     pub(super) causal: Option<SosFilter>,
-    pub(super) zero_phase: Option<ZeroPhase>,
+    /// The components filtered side by side, one lane each.
+    pub(super) zero_phase: Option<ForwardBackward<[f64; 5]>>,
     pub(super) spline: SmoothingSpline,
     /// Abscissa units per second (1/step for samples, 1 for seconds).
     pub(super) units_per_second: f64,
@@ -64,7 +65,7 @@ impl SplineEngine {
             ),
             FilterMode::ZeroPhase => (
                 None,
-                Some(ZeroPhase::new(
+                Some(ForwardBackward::new(
                     design_lowpass(cfg.filter_order, cfg.cutoff_hz, rate)?,
                     capacity,
                 )),
@@ -176,18 +177,31 @@ impl SplineEngine {
 
     /// `self.smoothed` from `self.values`: filtered where `filtered[c]`, copied otherwise.
     pub(super) fn filter_window(&mut self, n: usize, filtered: &[bool]) -> Result<()> {
-        for (c, &on) in filtered.iter().enumerate() {
-            let (x, y) = (
-                &self.values[c * n..(c + 1) * n],
-                &mut self.smoothed[c * n..(c + 1) * n],
-            );
-            match (on, &self.causal, &mut self.zero_phase) {
-                (true, Some(sos), _) => {
-                    y.copy_from_slice(x);
-                    sos.filter_from_steady_state(y);
+        let k = filtered.len();
+        let (values, smoothed) = (&self.values[..k * n], &mut self.smoothed[..k * n]);
+        smoothed.copy_from_slice(values);
+        if let Some(sos) = &self.causal {
+            for (y, _) in smoothed
+                .chunks_exact_mut(n)
+                .zip(filtered)
+                .filter(|(_, &on)| on)
+            {
+                sos.filter_from_steady_state(y);
+            }
+        }
+        if let Some(zp) = &mut self.zero_phase {
+            zp.check_len(n)?;
+            for (x, _) in values.chunks_exact(n).zip(filtered).filter(|(_, &on)| on) {
+                check_samples("x", x)?;
+            }
+            // Every component in its own lane: the filtered ones are copied out.
+            let lanes = zp.filter(n, |i| {
+                std::array::from_fn(|c| if c < k { values[c * n + i] } else { 0.0 })
+            });
+            for (c, y) in smoothed.chunks_exact_mut(n).enumerate() {
+                if filtered[c] {
+                    y.iter_mut().zip(lanes).for_each(|(y, lane)| *y = lane[c]);
                 }
-                (true, None, Some(zp)) => zp.apply(x, y)?,
-                _ => y.copy_from_slice(x),
             }
         }
         Ok(())
