@@ -3,10 +3,11 @@
 //! are always float64.
 
 use crate::errors::shape_error;
-use numpy::ndarray::{ArrayView, Dimension};
-use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use numpy::ndarray::{ArrayView, ArrayView2, ArrayView3, Dimension};
+use numpy::{PyArray1, PyArray2, PyArray3, ToPyArray};
 use pyo3::prelude::*;
 use std::borrow::Cow;
+use torso_core::coco::{Joints, N_JOINTS};
 
 /// Two arrays returned together, as a Python tuple.
 pub type ArrayPair<'py, A, B> = PyResult<(Bound<'py, A>, Bound<'py, B>)>;
@@ -69,18 +70,21 @@ pub fn expect_last(name: &str, shape: &[usize], last: usize, expected: &str) -> 
 pub fn matrix<'py, const C: usize>(
     py: Python<'py>,
     rows: &[[f64; C]],
-) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let array = PyArray2::<f64>::zeros(py, [rows.len(), C], false);
-    {
-        let mut rw = array.readwrite();
-        let out = rw
-            .as_slice_mut()
-            .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
-        for (dst, src) in out.chunks_exact_mut(C).zip(rows) {
-            dst.copy_from_slice(src);
-        }
-    }
-    Ok(array)
+) -> Bound<'py, PyArray2<f64>> {
+    // Copied into a new array as it is made, without the borrow checks of writing into one.
+    ArrayView2::from_shape((rows.len(), C), rows.as_flattened())
+        .expect("rows of C values")
+        .to_pyarray(py)
+}
+
+/// Joints as a new `(people, 17, 3)` array.
+pub fn joints_array<'py>(py: Python<'py>, joints: &[Joints]) -> Bound<'py, PyArray3<f64>> {
+    ArrayView3::from_shape(
+        (joints.len(), N_JOINTS, 3),
+        joints.as_flattened().as_flattened(),
+    )
+    .expect("17 joints of 3 coordinates")
+    .to_pyarray(py)
 }
 
 /// A float64 vector.

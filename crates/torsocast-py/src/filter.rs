@@ -15,7 +15,7 @@ pub fn butter_lowpass(
     rate_hz: f64,
 ) -> PyResult<Bound<'_, PyArray2<f64>>> {
     let f = design_lowpass(count("order", order)?, cutoff_hz, rate_hz).map_err(to_py)?;
-    matrix(py, f.sections())
+    Ok(matrix(py, f.sections()))
 }
 
 /// The designed filter and the finite-checked signal, shared by the window filters.
@@ -124,7 +124,7 @@ impl LowPass {
     }
 
     #[getter]
-    fn sos<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn sos<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
         matrix(py, self.inner.filter().sections())
     }
 }

@@ -367,7 +367,7 @@ impl Forecaster {
         self.inner
             .forecast(&horizons, &mut self.scratch)
             .map_err(to_py)?;
-        matrix(py, &self.scratch)
+        Ok(matrix(py, &self.scratch))
     }
 
     fn reset(&mut self) {
@@ -403,7 +403,7 @@ impl Forecaster {
         let (p, w): (Vec<Pose>, Vec<f64>) = (0..self.inner.len())
             .filter_map(|i| self.inner.sample(i))
             .unzip();
-        Ok((matrix(py, &p)?, PyArray1::from_vec(py, w)))
+        Ok((matrix(py, &p), PyArray1::from_vec(py, w)))
     }
 }
 

@@ -59,7 +59,7 @@ impl JointGate {
             .update(&mut pts, &mut self.status)
             .map_err(to_py)?;
         let codes: Vec<u8> = self.status.iter().map(|s| *s as u8).collect();
-        Ok((matrix(py, &pts)?, PyArray1::from_vec(py, codes)))
+        Ok((matrix(py, &pts), PyArray1::from_vec(py, codes)))
     }
 
     fn reset(&mut self) {

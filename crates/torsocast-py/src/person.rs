@@ -28,7 +28,7 @@ impl Person {
     ) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
         self.scratch.resize(horizons.len(), [0.0; 5]);
         if fill(&mut self.inner, horizons, &mut self.scratch).map_err(to_py)? {
-            Ok(Some(matrix(py, &self.scratch)?))
+            Ok(Some(matrix(py, &self.scratch)))
         } else {
             Ok(None)
         }
@@ -170,7 +170,7 @@ impl Observation {
 
     /// (17, 3) joints after the swap and the gate, NaN where lost.
     #[getter]
-    fn joints<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn joints<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
         matrix(py, &self.inner.joints)
     }
 

@@ -121,8 +121,8 @@ pub fn fit_planes<'py>(
     })
     .map_err(to_py)?;
     let out = PyDict::new(py);
-    out.set_item("centre", matrix(py, &centre)?)?;
-    out.set_item("normal", matrix(py, &normal)?)?;
+    out.set_item("centre", matrix(py, &centre))?;
+    out.set_item("normal", matrix(py, &normal))?;
     out.set_item("azimuth", vector(py, &azimuth))?;
     out.set_item("elevation", vector(py, &elevation))?;
     out.set_item("rms_residual", vector(py, &rms))?;

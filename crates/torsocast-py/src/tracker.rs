@@ -1,12 +1,10 @@
 //! The multi-person tracker: one call per frame, with the GIL released while the core works.
 
-use crate::arrays::{c_order, depth_size, matrix, sequence};
+use crate::arrays::{c_order, depth_size, joints_array, matrix, sequence};
 use crate::config::TrackerConfig;
 use crate::errors::{shape_error, to_py};
 use crate::person::Observation;
-use numpy::{
-    AllowTypeChange, PyArray2, PyArray3, PyArrayLikeDyn, PyArrayMethods, PyUntypedArrayMethods,
-};
+use numpy::{AllowTypeChange, PyArray2, PyArray3, PyArrayLikeDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use torso_core::camera::{Camera, Intrinsics, Rigid};
 use torso_core::coco::{Joints, N_JOINTS};
@@ -102,13 +100,13 @@ impl Tracker {
                     .forecast(t.slot, horizons, &mut self.poses)
                     .map_err(to_py)?
                 {
-                    forecast = Some(matrix(py, &self.poses)?.unbind());
+                    forecast = Some(matrix(py, &self.poses).unbind());
                     if self
                         .inner
                         .intervals(t.slot, horizons, &mut self.poses)
                         .map_err(to_py)?
                     {
-                        intervals = Some(matrix(py, &self.poses)?.unbind());
+                        intervals = Some(matrix(py, &self.poses).unbind());
                     }
                 }
             }
@@ -130,21 +128,6 @@ impl Tracker {
         }
         Ok(out)
     }
-}
-
-/// `joints` as a new (people, 17, 3) array.
-fn joints_array<'py>(py: Python<'py>, joints: &[Joints]) -> PyResult<Bound<'py, PyArray3<f64>>> {
-    let array = PyArray3::<f64>::zeros(py, [joints.len(), N_JOINTS, 3], false);
-    {
-        let mut rw = array.readwrite();
-        let out = rw
-            .as_slice_mut()
-            .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
-        for (dst, src) in out.chunks_exact_mut(3).zip(joints.iter().flatten()) {
-            dst.copy_from_slice(src);
-        }
-    }
-    Ok(array)
 }
 
 /// The horizons, checked before the frame changes anything.
@@ -300,7 +283,7 @@ impl Tracker {
             Ok(())
         })
         .map_err(to_py)?;
-        let array = joints_array(py, self.inner.joints())?;
+        let array = joints_array(py, self.inner.joints());
         Ok((array, self.outcomes(py, &horizons)?))
     }
 
@@ -308,7 +291,7 @@ impl Tracker {
     /// the tracker dropped any read off someone nearer the camera: `update` with them tracks
     /// the frame again as it was tracked (what a recording of a stream keeps).
     #[getter]
-    fn lifted<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray3<f64>>> {
+    fn lifted<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray3<f64>> {
         joints_array(py, self.inner.lifted())
     }
 
@@ -400,7 +383,7 @@ impl Tracker {
         };
         self.poses.resize(horizons.len(), [0.0; 5]);
         if fill(&mut self.inner, slot, horizons, &mut self.poses).map_err(to_py)? {
-            Ok(Some(matrix(py, &self.poses)?))
+            Ok(Some(matrix(py, &self.poses)))
         } else {
             Ok(None)
         }
