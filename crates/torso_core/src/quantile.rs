@@ -87,16 +87,22 @@ impl RecentQuantile {
         for (i, &m) in self.mass.iter().enumerate() {
             let m = m * self.scale;
             let start = i as f64;
-            // The bin's mass spread evenly, the prior's at its place inside its own bin.
-            let has_prior = p as usize == i;
-            let split = if has_prior { p } else { start + 1.0 };
-            for (piece, (from, to)) in [(start, split), (split, start + 1.0)].iter().enumerate() {
+            if p as usize != i {
+                // The bin's mass spread evenly over it.
+                if m > 0.0 && below + m >= target {
+                    return at(start + (target - below) / m);
+                }
+                below += m;
+                continue;
+            }
+            // The prior's bin: its mass spread evenly, the prior's at its place inside it.
+            for (piece, (from, to)) in [(start, p), (p, start + 1.0)].iter().enumerate() {
                 let mass = m * (to - from);
                 if mass > 0.0 && below + mass >= target {
                     return at(from + (target - below) / m);
                 }
                 below += mass;
-                if has_prior && piece == 0 {
+                if piece == 0 {
                     below += prior_weight;
                     if below >= target {
                         return prior;

@@ -110,12 +110,18 @@ pub const MAX_PREDICTIONS: usize = 100_000;
 
 #[derive(Clone, Copy, Debug, Default)]
 struct Prediction {
-    made: f64,
     poses: [[Pose; CANDIDATES]; H],
     /// Per checked horizon: the forecast the mix gave, and its spread (NaN before any check).
     mixed: [Pose; H],
     spread: [Pose; H],
-    /// Per checked horizon: not yet scored.
+}
+
+/// When a prediction of the ring was made, and per checked horizon whether it waits to be
+/// scored: kept apart from the predictions, so that the search for the ones due, every frame,
+/// reads a few cache lines and not the whole ring.
+#[derive(Clone, Copy, Debug, Default)]
+struct Due {
+    made: f64,
     pending: [bool; H],
 }
 
@@ -137,6 +143,7 @@ struct Prediction {
 pub struct SelfCheck {
     half_step: f64,
     ring: Vec<Prediction>,
+    due: Vec<Due>,
     next: usize,
     /// Per checked horizon, per component: forgetting sums of the products of the candidates'
     /// errors, and of the products of their squares (for the spread of one's gain over another).
@@ -171,6 +178,7 @@ impl SelfCheck {
         Ok(Self {
             half_step: 0.5 / rate_hz,
             ring: vec![Prediction::default(); slots],
+            due: vec![Due::default(); slots],
             next: 0,
             sums: [[[[0.0; CANDIDATES]; CANDIDATES]; 5]; H],
             squares: [[[[0.0; CANDIDATES]; CANDIDATES]; 5]; H],
@@ -236,12 +244,12 @@ impl SelfCheck {
                 spread[k] = self.spread_of(h, j, &w);
             }
         }
-        for p in self.ring.iter_mut() {
+        for (p, due) in self.ring.iter().zip(self.due.iter_mut()) {
             for k in 0..H {
-                if !(p.pending[k] && p.made + HORIZONS[k] <= t + self.half_step) {
+                if !(due.pending[k] && due.made + HORIZONS[k] <= t + self.half_step) {
                     continue;
                 }
-                p.pending[k] = false;
+                due.pending[k] = false;
                 // A longer horizon's prior reads this one's scores (`turn_shown`).
                 self.fresh[k..].fill(false);
                 let decay =
@@ -268,10 +276,12 @@ impl SelfCheck {
             }
         }
         self.ring[self.next] = Prediction {
-            made: t,
             poses,
             mixed,
             spread,
+        };
+        self.due[self.next] = Due {
+            made: t,
             pending: [true; H],
         };
         self.next = (self.next + 1) % self.ring.len();
@@ -511,6 +521,10 @@ impl SelfCheck {
     }
 
     fn nearest(&self, horizon: f64) -> usize {
+        // A checked horizon itself, as most forecasts ask, without the logarithms.
+        if let Some(k) = HORIZONS.iter().position(|&h| h == horizon) {
+            return k;
+        }
         (0..H)
             .min_by(|&a, &b| {
                 let da = (horizon.max(1e-3) / HORIZONS[a]).ln().abs();
@@ -523,8 +537,8 @@ impl SelfCheck {
     /// Forgets the pending predictions (the history they were made from changed), not the
     /// scores.
     pub fn drop_pending(&mut self) {
-        for p in self.ring.iter_mut() {
-            p.pending = [false; H];
+        for due in self.due.iter_mut() {
+            due.pending = [false; H];
         }
     }
 
