@@ -582,6 +582,31 @@ mod tests {
     }
 
     #[test]
+    fn series_filtered_side_by_side_come_out_as_each_alone_to_the_bit() {
+        let mut next = crate::testing::uniform(5);
+        for order in [1, 2, 4] {
+            let f = design_lowpass(order, 1.0, 25.0).unwrap();
+            let padlen = f.default_padlen();
+            let mut lanes = ForwardBackward::<[f64; 3]>::new(f.clone(), 60);
+            let mut alone = ZeroPhase::new(f, 60);
+            // Windows longer than the padding, as long as it and shorter, a sample, none.
+            for n in [60, 37, padlen + 1, padlen, 3, 2, 1, 0] {
+                let x: Vec<[f64; 3]> = (0..n)
+                    .map(|_| [next() * 4.0 - 2.0, 1e3 * next(), -next()])
+                    .collect();
+                let together = lanes.filter(n, |i| x[i]).to_vec();
+                for lane in 0..3 {
+                    let series: Vec<f64> = x.iter().map(|v| v[lane]).collect();
+                    let mut out = vec![0.0; n];
+                    alone.apply(&series, &mut out).unwrap();
+                    let side_by_side: Vec<f64> = together.iter().map(|v| v[lane]).collect();
+                    assert_eq!(side_by_side, out, "order {order}, {n} samples, lane {lane}");
+                }
+            }
+        }
+    }
+
+    #[test]
     fn rejects_bad_designs() {
         assert!(design_lowpass(0, 5.0, 25.0).is_err());
         assert!(design_lowpass(9, 5.0, 25.0).is_err());
