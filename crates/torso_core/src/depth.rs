@@ -110,7 +110,8 @@ impl DepthLookup {
     /// Asks for the cache lines at both ends of every row of the windows around `pixels`: a
     /// depth image fresh from a sensor is not in the cache, and these requests fetch the rows
     /// in parallel, where [`depth_at`](Self::depth_at)'s window-by-window reads would wait for
-    /// each in turn. Call it before looking up many keypoints of one image.
+    /// each in turn. Call it a few keypoints ahead of their lookups (as the tracker does), so
+    /// that the fetches of later windows overlap the work on earlier ones.
     pub fn prefetch(&self, image: &DepthImage<'_>, pixels: impl Iterator<Item = [f64; 2]>) {
         let r = self.radius.min(MAX_RADIUS) as isize;
         let (width, height) = (image.width as isize, image.height as isize);

@@ -65,6 +65,11 @@ pub type Keypoints = [[f64; 3]; N_JOINTS];
 /// Largest `capacity` and `max_detections` a tracker accepts.
 pub const MAX_CAPACITY: usize = 4096;
 
+/// Keypoints whose depth windows are asked for ahead of the one looked up: enough in flight
+/// that a depth image fresh from the sensor arrives while the lookups before work, few enough
+/// that what arrives stays in the first-level cache until it is read.
+const LOOKAHEAD: usize = 8;
+
 /// Two people's torso centres never lie closer than this (m): a torso is about as deep, front to
 /// back, and two bodies do not overlap. A detection this close to one that a track took is the
 /// same body seen twice (a keypoint model's non-maximum suppression, on boxes, leaves two
@@ -423,18 +428,20 @@ impl Tracker {
         self.check(t, keypoints.iter().map(|k| k.map(|p| p[2])), position)?;
         self.lifted.clear();
         self.scores.clear();
-        let seen = keypoints
+        let (lookup, person_config) = (&self.config.depth, &self.config.person);
+        let mut ahead = keypoints
             .iter()
             .flatten()
-            .filter(|p| self.config.person.sees(p[2]))
+            .filter(|p| person_config.sees(p[2]))
             .map(|p| [p[0], p[1]]);
-        self.config.depth.prefetch(depth, seen);
+        lookup.prefetch(depth, ahead.by_ref().take(LOOKAHEAD));
         for person in keypoints {
             let scores = person.map(|p| p[2]);
             let joints = std::array::from_fn(|j| {
                 let [u, v, score] = person[j];
-                if self.config.person.sees(score) {
-                    let z = self.config.depth.depth_at(depth, [u, v]);
+                if person_config.sees(score) {
+                    lookup.prefetch(depth, ahead.next().into_iter());
+                    let z = lookup.depth_at(depth, [u, v]);
                     camera.deproject_to_world([u, v], z)
                 } else {
                     [f64::NAN; 3]
