@@ -3,6 +3,7 @@ residual start against zero velocity, its training against a motion zero velocit
 and its whole-body forecasts turned into torso poses exactly as the truth is."""
 
 import json
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -109,6 +110,49 @@ def test_a_long_training_hands_over_the_model_so_far(monkeypatch):
     )
     assert saved == [(40, 40), (80, 80)]
     assert model.iterations == 100 and len(model.losses) == 100
+
+
+def test_a_run_stopped_and_trained_on_is_the_run_that_never_stopped(monkeypatch, tmp_path):
+    # The learning rate decays within both halves, and the checkpoint goes through a file.
+    monkeypatch.setattr(hmp, "CHECKPOINT_EVERY", 7)
+    takes = _waves(np.random.default_rng(8))
+    settings = hmp.Training(units=4, iterations=12, steps=5, decay_every=5, seed=3)
+    whole = hmp.train(takes, ["walking"], (1,), settings)
+    stopped = tmp_path / "stopped.npz"
+    hmp.train(takes, ["walking"], (1,), settings, checkpoint=lambda so_far: so_far.save(stopped))
+    at_7 = hmp.Model.load(stopped)
+    assert at_7.iterations == 7 and at_7.describe()["resumable"]
+    resumed = hmp.train(takes, ["walking"], (1,), settings, resume=at_7)
+    for a, b in zip(resumed.weights.arrays(), whole.weights.arrays()):
+        np.testing.assert_array_equal(a, b)
+    np.testing.assert_array_equal(resumed.losses, whole.losses)
+    # Trained on further than first asked: the run of that length.
+    longer = replace(settings, iterations=15)
+    np.testing.assert_array_equal(
+        hmp.train(takes, ["walking"], (1,), longer, resume=resumed).losses,
+        hmp.train(takes, ["walking"], (1,), longer).losses,
+    )
+
+
+def test_a_model_is_trained_on_only_as_it_was_trained(tmp_path):
+    takes = _waves(np.random.default_rng(8))
+    settings = hmp.Training(units=4, iterations=6, steps=5)
+    model = hmp.train(takes, ["walking"], (1,), settings)
+    refused = {
+        "with units 4, not 5": (takes, (1,), replace(settings, units=5, iterations=9), model),
+        "on subjects \\[1\\], not \\[6\\]": (takes, (6,), replace(settings, iterations=9), model),
+        "not those the model was trained on": (takes[:2], (1,), replace(settings, iterations=9), model),
+        "6 steps already": (takes, (1,), settings, model),
+        "without its training state": (
+            takes,
+            (1,),
+            replace(settings, iterations=9),
+            replace(model, rng=None),
+        ),
+    }
+    for why, (data, subjects, asked, resume) in refused.items():
+        with pytest.raises(ValueError, match=why):
+            hmp.train(data, ["walking"], subjects, asked, resume=resume)
 
 
 @pytest.mark.parametrize("field", ["units", "iterations", "batch", "steps"])
@@ -233,3 +277,31 @@ def test_eval_runs_hmp_beside_the_thesis_methods_and_refuses_a_model_of_the_test
         evaluate(h36m_root, (5,), "seeds", hmp_model=seen)
     code, _, err = run_cli(["eval", "h36m", "--data", str(h36m_root), "--hmp", str(tmp_path / "none.npz")])
     assert code == 2 and err.strip().startswith("--hmp:") and len(err.strip().splitlines()) == 1
+
+
+def test_train_hmp_resumes_the_run_in_its_out_file_and_refuses_what_it_cannot(h36m_root, tmp_path):
+    if not (h36m_root / "S1").is_dir():
+        pytest.skip("S1 files not found")
+    model_path = tmp_path / "hmp.npz"
+
+    def train(iterations: int, *extra: str) -> tuple[int, str]:
+        args = ["eval", "train-hmp", "--data", str(h36m_root), "--units", "4"]
+        args += ["--iterations", str(iterations), "--out", str(model_path), *extra]
+        code, _, err = run_cli(args)
+        return code, err
+
+    assert train(100)[0] == 0
+    first = hmp.Model.load(model_path)
+    assert train(200, "--resume")[0] == 0
+    resumed = hmp.Model.load(model_path)
+    assert resumed.iterations == 200
+    np.testing.assert_array_equal(resumed.losses[:100], first.losses)
+    for extra, why in [
+        (("--resume",), "the model has had 200 steps already"),
+        (("--resume", "--seed", "1"), "the model was trained with seed 0, not 1"),
+    ]:
+        code, err = train(200 if len(extra) == 1 else 300, *extra)
+        assert code == 2 and why in err and len(err.strip().splitlines()) == 1, err
+    model_path.unlink()
+    code, err = train(100, "--resume")
+    assert code == 2 and err.startswith("--resume:") and len(err.strip().splitlines()) == 1

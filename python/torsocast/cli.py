@@ -176,8 +176,16 @@ def _eval_train_hmp(args: argparse.Namespace) -> int:
     if not out.parent.is_dir():
         print(f"--out: {out.parent} is not a folder", file=sys.stderr)
         return 2
+    resume = None
+    if args.resume:
+        try:
+            resume = hmp.Model.load(out)
+        except (OSError, ValueError) as e:
+            print(f"--resume: {e}", file=sys.stderr)
+            return 2
     takes = [(a, h36m.read_frames(data, s, a, sub)) for s in subjects for a, sub in h36m.available(data, s)]
-    progress = Progress(settings.iterations // 100, f"eval train-hmp ({settings.units} units)")
+    done = 0 if resume is None else resume.iterations
+    progress = Progress(max(settings.iterations - done, 0) // 100, f"eval train-hmp ({settings.units} units)")
     try:
         model = hmp.train(
             takes,
@@ -186,6 +194,7 @@ def _eval_train_hmp(args: argparse.Namespace) -> int:
             settings,
             lambda i, loss: progress(f"loss {loss:.4f}"),
             lambda so_far: so_far.save(out),  # stopped early, the file holds the steps done
+            resume,
         )
     except ValueError as e:
         print(f"torsocast eval train-hmp: {e}", file=sys.stderr)
@@ -518,6 +527,12 @@ def main(argv: list[str] | None = None) -> int:
     th.add_argument("--seed", type=int, default=hmp_defaults.seed)
     th.add_argument(
         "--out", default="hmp.npz", help="where to write the model (keep it out of the repository)"
+    )
+    th.add_argument(
+        "--resume",
+        action="store_true",
+        help="train on the model in --out (a run stopped early: its last checkpoint) up to --iterations, "
+        "with the settings and data it was trained with",
     )
     th.set_defaults(run=_eval_train_hmp)
     sc = ev_sub.add_parser(

@@ -22,8 +22,9 @@ research-only data (``torsocast eval train-hmp``); the weights stay where the us
 
 from __future__ import annotations
 
+import json
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 from typing import Any
 
@@ -251,6 +252,11 @@ class Model:
     iterations: int
     losses: F64
     """The training loss, one entry per iteration."""
+    settings: Training | None = None
+    """How it was trained, and ``rng``, its random generator's state after its last step: what
+    training needs to go on from here (:func:`train`'s ``resume``). ``None`` in models saved
+    before torsocast kept them, which cannot be resumed."""
+    rng: dict[str, Any] | None = None
 
     def channels(self, frames: F64, action: str) -> F32:
         """``(..., frames, 99)`` 25 Hz frames of one action as the model's inputs."""
@@ -274,30 +280,35 @@ class Model:
             "trained_on_subjects": list(self.subjects),
             "iterations": self.iterations,
             "final_loss": float(self.losses[-100:].mean()) if len(self.losses) else None,
+            "resumable": self.settings is not None,
         }
 
     def save(self, path: str | Path) -> None:
         """Writes the model to ``path`` as it is named (NumPy's own would add ``.npz``), whole or
         not at all: a run stopped while a checkpoint is written keeps the one before."""
         w = self.weights
+        arrays: dict[str, Any] = {
+            "gates": w.gates,
+            "gates_bias": w.gates_bias,
+            "candidate": w.candidate,
+            "candidate_bias": w.candidate_bias,
+            "out": w.out,
+            "out_bias": w.out_bias,
+            "mean": self.normaliser.mean,
+            "std": self.normaliser.std,
+            "used": self.normaliser.used,
+            "actions": np.array(self.actions),
+            "subjects": np.array(self.subjects),
+            "iterations": self.iterations,
+            "losses": self.losses,
+        }
+        if self.settings is not None and self.rng is not None:
+            # JSON: the generator's state holds integers wider than any NumPy integer.
+            state = {"settings": asdict(self.settings), "rng": self.rng}
+            arrays["training"] = np.array(json.dumps(state))
         partial = Path(f"{path}.partial")
         with open(partial, "wb") as file:
-            np.savez(
-                file,
-                gates=w.gates,
-                gates_bias=w.gates_bias,
-                candidate=w.candidate,
-                candidate_bias=w.candidate_bias,
-                out=w.out,
-                out_bias=w.out_bias,
-                mean=self.normaliser.mean,
-                std=self.normaliser.std,
-                used=self.normaliser.used,
-                actions=np.array(self.actions),
-                subjects=np.array(self.subjects),
-                iterations=self.iterations,
-                losses=self.losses,
-            )
+            np.savez(file, **arrays)
         partial.replace(path)
 
     @classmethod
@@ -320,9 +331,18 @@ class Model:
                     subjects=tuple(int(s) for s in z["subjects"]),
                     iterations=int(z["iterations"]),
                     losses=z["losses"],
+                    **_training_state(z),
                 )
             except KeyError as e:
                 raise ValueError(f"{path}: not an HMP model saved by torsocast (no {e})") from e
+
+
+def _training_state(saved: Any) -> dict[str, Any]:
+    """A saved model's settings and generator state, where it has them."""
+    if "training" not in saved:
+        return {}
+    state = json.loads(str(saved["training"]))
+    return {"settings": Training(**state["settings"]), "rng": state["rng"]}
 
 
 def _channels(normaliser: Normaliser, actions: tuple[str, ...], frames: F64, action: str) -> F32:
@@ -343,13 +363,15 @@ def train(
     settings: Training = Training(),
     progress: Callable[[int, float], None] | None = None,
     checkpoint: Callable[[Model], None] | None = None,
+    resume: Model | None = None,
 ) -> Model:
     """Trains on ``(action, (frames, 99) 25 Hz frames)`` takes as the reference code does: each
     step a batch of windows, each from a take drawn uniformly and a start drawn uniformly (from the
     17th frame on), 50 frames read and ``settings.steps`` predicted. ``progress(iteration, loss)``
     is called every 100 iterations, ``checkpoint(model so far)`` every
     :data:`CHECKPOINT_EVERY` (so that a long run stopped early leaves a model that says how far
-    it got)."""
+    it got). ``resume``, such a model, is trained on from its last step to ``settings.iterations``
+    on the same takes, as if the run had not stopped: the same model to the bit."""
     span = HISTORY + settings.steps
     usable = [(a, f) for a, f in takes if len(f) > 16 + span]
     if not usable:
@@ -363,7 +385,23 @@ def train(
     w = Weights.initial(encoded[0].shape[1], settings.units, rng)
     losses = np.empty(settings.iterations)
     rate = settings.learning_rate
-    for i in range(settings.iterations):
+    start = 0
+    if resume is not None:
+        _check_resumable(resume, settings, normaliser, tuple(actions), tuple(subjects))
+        assert resume.rng is not None
+        w = Weights(*(a.copy() for a in resume.weights.arrays()))
+        rng.bit_generator.state = resume.rng
+        start = resume.iterations
+        losses[:start] = resume.losses
+        for i in range(start):  # the decays so far, as the run made them
+            if (i + 1) % settings.decay_every == 0:
+                rate *= settings.decay
+
+    def so_far(done: int) -> Model:
+        state = dict(rng.bit_generator.state)
+        return Model(w, normaliser, tuple(actions), tuple(subjects), done, losses[:done], settings, state)
+
+    for i in range(start, settings.iterations):
         takes_drawn = rng.integers(len(encoded), size=settings.batch)
         starts = [int(rng.integers(16, len(encoded[k]) - span)) for k in takes_drawn]
         windows = np.stack([encoded[k][s : s + span] for k, s in zip(takes_drawn, starts)])
@@ -376,5 +414,40 @@ def train(
         if progress is not None and (i + 1) % 100 == 0:
             progress(i + 1, float(losses[i - 99 : i + 1].mean()))
         if checkpoint is not None and (i + 1) % CHECKPOINT_EVERY == 0 and i + 1 < settings.iterations:
-            checkpoint(Model(w, normaliser, tuple(actions), tuple(subjects), i + 1, losses[: i + 1]))
-    return Model(w, normaliser, tuple(actions), tuple(subjects), settings.iterations, losses)
+            checkpoint(so_far(i + 1))
+    return so_far(settings.iterations)
+
+
+def _check_resumable(
+    model: Model,
+    settings: Training,
+    normaliser: Normaliser,
+    actions: tuple[str, ...],
+    subjects: tuple[int, ...],
+) -> None:
+    """Refuses, naming why, to go on with a model trained otherwise or on other data."""
+    if model.settings is None or model.rng is None:
+        raise ValueError("the model was saved without its training state, so it cannot be trained on")
+    for name in (f.name for f in fields(Training) if f.name != "iterations"):
+        had, asked = getattr(model.settings, name), getattr(settings, name)
+        if had != asked:
+            raise ValueError(f"the model was trained with {name} {had}, not {asked}")
+    if model.subjects != subjects:
+        raise ValueError(f"the model was trained on subjects {list(model.subjects)}, not {list(subjects)}")
+    if model.actions != actions:
+        raise ValueError("the model was trained on other actions")
+    same_data = all(
+        np.array_equal(a, b)
+        for a, b in zip(
+            (model.normaliser.mean, model.normaliser.std, model.normaliser.used),
+            (normaliser.mean, normaliser.std, normaliser.used),
+        )
+    )
+    if not same_data:
+        raise ValueError(
+            "the takes are not those the model was trained on (their channels' statistics differ)"
+        )
+    if model.iterations >= settings.iterations:
+        raise ValueError(
+            f"the model has had {model.iterations} steps already; ask for more than that to train it on"
+        )
