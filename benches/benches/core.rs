@@ -210,7 +210,7 @@ fn ten_people_per_frame(bencher: Bencher) {
 
 /// A 640x480 depth image (a wall at 6 m) with ten people as 2 m-deep boxes at 2 to 4 m, their
 /// keypoints' pixels, and the camera they were seen by.
-fn crowd_frame(k: usize) -> (Vec<f32>, Vec<tracker::Keypoints>, camera::Camera) {
+fn crowd_frame(k: usize) -> Frame {
     let (w, h) = (640usize, 480usize);
     let intrinsics = camera::Intrinsics::new(525.0, 525.0, 320.0, 240.0, [0.0; 5]).unwrap();
     let cam = camera::Camera::new(intrinsics, camera::Camera::level(1.0, 0.0));
@@ -252,7 +252,39 @@ fn depth_lookup_17_keypoints(bencher: Bencher) {
 /// for each confirmed track: everything outside the model in one frame, without Python.
 #[divan::bench]
 fn tracker_step_ten_people(bencher: Bencher) {
-    bench_tracker_step(bencher, |_, _| false);
+    bench_tracker_step(bencher, (0..4).map(crowd_frame).collect(), |_, _| false);
+}
+
+/// Depth images of `tracker_step_ten_people_cold`: more than the caches hold.
+const COLD_FRAMES: usize = 64;
+
+/// As `tracker_step_ten_people`, each frame with a depth image of its own (64 of them, 79 MB,
+/// so that it is read from memory, as a frame fresh from a sensor is), the keypoints moved by a
+/// pixel's noise and their scores by a few hundredths, so that the forecasters' weights differ
+/// within their windows (their general path, as on a detector's output).
+#[divan::bench]
+fn tracker_step_ten_people_cold(bencher: Bencher) {
+    let mut next = {
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        }
+    };
+    let frames = (0..COLD_FRAMES)
+        .map(|k| {
+            let (depth, mut keypoints, camera) = crowd_frame(k);
+            for [u, v, score] in keypoints.iter_mut().flatten() {
+                *u += next() - 0.5;
+                *v += next() - 0.5;
+                *score = 0.85 + 0.1 * next();
+            }
+            (depth, keypoints, camera)
+        })
+        .collect();
+    bench_tracker_step(bencher, frames, |_, _| false);
 }
 
 /// As `tracker_step_ten_people`, with two of the ten people undetected in turn, each for
@@ -260,24 +292,28 @@ fn tracker_step_ten_people(bencher: Bencher) {
 /// looks for them where their forecasts put them and takes them up again when seen.
 #[divan::bench]
 fn tracker_step_ten_people_two_unseen(bencher: Bencher) {
-    bench_tracker_step(bencher, |person, k| person % 5 == (k / HIDDEN_FRAMES) % 5);
+    bench_tracker_step(bencher, (0..4).map(crowd_frame).collect(), |person, k| {
+        person % 5 == (k / HIDDEN_FRAMES) % 5
+    });
 }
 
 /// Frames (at 25 Hz) for which a person of `tracker_step_ten_people_two_unseen` goes unseen:
 /// 1.6 s, less than a track is kept unmatched by default.
 const HIDDEN_FRAMES: usize = 40;
 
-/// Frame `k` of ten people through `Tracker::step` and a forecast with intervals at two
-/// horizons for each confirmed track, without the detections of the people `hidden(person, k)`
-/// names.
-fn bench_tracker_step(bencher: Bencher, hidden: impl Fn(usize, usize) -> bool) {
-    let frames: Vec<_> = (0..4).map(crowd_frame).collect();
+/// A depth image, the keypoints seen in it, and the camera that saw them.
+type Frame = (Vec<f32>, Vec<tracker::Keypoints>, camera::Camera);
+
+/// Frame `k` (of `frames`, in turn) of ten people through `Tracker::step` and a forecast with
+/// intervals at two horizons for each confirmed track, without the detections of the people
+/// `hidden(person, k)` names.
+fn bench_tracker_step(bencher: Bencher, frames: Vec<Frame>, hidden: impl Fn(usize, usize) -> bool) {
     let mut tracker = Tracker::new(TrackerConfig::default()).unwrap();
     let mut out = [[0.0; 5]; 2];
     let mut seen = Vec::with_capacity(10);
     let mut k = 0;
     let mut step = |tracker: &mut Tracker, k: usize| {
-        let (depth, keypoints, cam) = &frames[k % 4];
+        let (depth, keypoints, cam) = &frames[k % frames.len()];
         let image = depth::DepthImage::new(depth, 640, 480).unwrap();
         seen.clear();
         seen.extend(
