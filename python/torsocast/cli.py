@@ -178,6 +178,9 @@ def _eval_train_hmp(args: argparse.Namespace) -> int:
         return 2
     resume = None
     if args.resume:
+        if not out.is_file():
+            print(f"--resume: {out} does not exist: there is no run to train on", file=sys.stderr)
+            return 2
         try:
             resume = hmp.Model.load(out)
         except (OSError, ValueError) as e:
@@ -202,7 +205,8 @@ def _eval_train_hmp(args: argparse.Namespace) -> int:
     model.save(out)
     trained_on = ", ".join(f"S{s}" for s in subjects)
     loss = model.losses[-100:].mean()
-    print(f"wrote {out} (trained on {trained_on}; mean loss over the last 100 steps {loss:.4f})")
+    resumed = "" if resume is None else f", resumed at step {resume.iterations}"
+    print(f"wrote {out} (trained on {trained_on}{resumed}; mean loss over the last 100 steps {loss:.4f})")
     return 0
 
 
