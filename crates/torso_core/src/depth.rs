@@ -110,8 +110,8 @@ impl DepthLookup {
     /// Asks for the cache lines at both ends of every row of the windows around `pixels`: a
     /// depth image fresh from a sensor is not in the cache, and these requests fetch the rows
     /// in parallel, where [`depth_at`](Self::depth_at)'s window-by-window reads would wait for
-    /// each in turn. Call it a few keypoints ahead of their lookups (as the tracker does), so
-    /// that the fetches of later windows overlap the work on earlier ones.
+    /// each in turn. Call it [`LOOKAHEAD`] keypoints ahead of their lookups (as the tracker
+    /// does), so that the fetches of later windows overlap the work on earlier ones.
     pub fn prefetch(&self, image: &DepthImage<'_>, pixels: impl Iterator<Item = [f64; 2]>) {
         let r = self.radius.min(MAX_RADIUS) as isize;
         let (width, height) = (image.width as isize, image.height as isize);
@@ -251,6 +251,17 @@ impl DepthLookup {
         0.5 * (metres((kept - 1) / 2) + metres(kept / 2))
     }
 }
+
+/// Keypoints whose windows [`DepthLookup::prefetch`] is asked for ahead of the one looked up.
+/// With a prefetch hint, eight: enough in flight that a depth image fresh from the sensor
+/// arrives while the lookups before work, few enough that what arrives stays in the
+/// first-level cache until it is read. Without one, every keypoint's before the first lookup:
+/// reads then wait for their lines together, where between lookups each would wait alone.
+pub const LOOKAHEAD: usize = if cfg!(target_arch = "x86_64") {
+    8
+} else {
+    usize::MAX
+};
 
 /// Starts bringing `x`'s cache line in without waiting for it: on x86-64 a prefetch hint, so
 /// the requests of [`DepthLookup::prefetch`] stay in flight while the lookups that follow work;

@@ -65,11 +65,6 @@ pub type Keypoints = [[f64; 3]; N_JOINTS];
 /// Largest `capacity` and `max_detections` a tracker accepts.
 pub const MAX_CAPACITY: usize = 4096;
 
-/// Keypoints whose depth windows are asked for ahead of the one looked up: enough in flight
-/// that a depth image fresh from the sensor arrives while the lookups before work, few enough
-/// that what arrives stays in the first-level cache until it is read.
-const LOOKAHEAD: usize = 8;
-
 /// Two people's torso centres never lie closer than this (m): a torso is about as deep, front to
 /// back, and two bodies do not overlap. A detection this close to one that a track took is the
 /// same body seen twice (a keypoint model's non-maximum suppression, on boxes, leaves two
@@ -434,7 +429,7 @@ impl Tracker {
             .flatten()
             .filter(|p| person_config.sees(p[2]))
             .map(|p| [p[0], p[1]]);
-        lookup.prefetch(depth, ahead.by_ref().take(LOOKAHEAD));
+        lookup.prefetch(depth, ahead.by_ref().take(crate::depth::LOOKAHEAD));
         for person in keypoints {
             let scores = person.map(|p| p[2]);
             let joints = std::array::from_fn(|j| {
