@@ -14,57 +14,11 @@ from pathlib import Path
 
 import numpy as np
 
-from torsocast.camera import Camera, Intrinsics
+from torsocast.bench import K, crowd_frames, frame_cost
+from torsocast.camera import Camera
 from torsocast.keypoints import Detections, open_model
 from torsocast.pipeline import Pipeline
 from torsocast.sources import Frame, open_source
-from torsocast.tracker import Tracker
-
-K = Intrinsics(525.0, 525.0, 320.0, 240.0)
-FRAMES = 200  # 8 s at 25 Hz: every track is confirmed and forecasting for most of it
-PER_ROW = 10
-CELL = (64, 96)  # pixels across and up the picture per person on the stand: a torso 4 m away fits
-
-
-def places(n: int) -> np.ndarray:
-    """Where ``n`` people stand, ``(n, 3)`` in the world frame of a level camera at its origin.
-    Up to ten: on a 2-4 m arc across the picture, some partly behind others or out of view. More:
-    on a stand's tiers, rows of ten across the picture, each row half a metre further back and
-    high enough to be seen above the one in front, so that everyone is tracked (fifty on the arc
-    would stand inside one another, and a person the tracker cannot tell apart costs less)."""
-    if n <= PER_ROW:
-        return np.array([[2.0 + 2.0 * (i % 5) / 4, -1.2 + 2.4 * i / max(n - 1, 1), 0.0] for i in range(n)])
-    rows = -(-n // PER_ROW)
-    out = np.zeros((n, 3))
-    for i in range(n):
-        row, column = divmod(i, PER_ROW)
-        across = min(n - PER_ROW * row, PER_ROW)
-        u = K.cx + CELL[0] * (column - (across - 1) / 2)
-        v = K.cy + CELL[1] * ((rows - 1) / 2 - row)  # the front row lowest in the picture
-        x = 4.0 + 0.5 * row
-        out[i] = x, -(u - K.cx) * x / K.fx, -(v - K.cy) * x / K.fy
-    return out
-
-
-def crowd(n: int, t: float, rng: np.random.Generator) -> tuple[Detections, np.ndarray]:
-    """``n`` people standing at :func:`places`, slowly turning, as detections with 17 keypoints,
-    and the depth image they would give (their torsos as boxes before a wall at 8 m)."""
-    depth = np.full((480, 640), 8.0, dtype=np.float32)
-    keypoints = np.zeros((n, 17, 3))
-    for i, centre in enumerate(places(n)):
-        yaw = np.pi + 0.5 * np.sin(0.5 * t + i)
-        left = np.array([-np.sin(yaw), np.cos(yaw), 0.0])
-        joints = centre + np.outer(np.linspace(-0.2, 0.2, 17), left)
-        joints[:, 2] += np.linspace(0.3, -0.3, 17)
-        optical = np.column_stack([-joints[:, 1], -joints[:, 2], joints[:, 0]])
-        uv = K.project(optical)
-        keypoints[i, :, :2] = uv + rng.normal(0, 0.5, size=(17, 2))
-        keypoints[i, :, 2] = 0.9
-        u0, v0 = np.clip(uv.min(axis=0) - 4, 0, [639, 479]).astype(int)
-        u1, v1 = np.clip(uv.max(axis=0) + 4, 0, [639, 479]).astype(int)
-        depth[v0 : v1 + 1, u0 : u1 + 1] = np.minimum(depth[v0 : v1 + 1, u0 : u1 + 1], centre[0])
-    boxes = np.concatenate([keypoints[:, :, :2].min(axis=1), keypoints[:, :, :2].max(axis=1)], axis=1)
-    return Detections(keypoints, boxes, np.full(n, 0.9)), depth
 
 
 class Replay:
@@ -83,33 +37,20 @@ class Replay:
 def outside_model(n: int) -> tuple[float, float, int]:
     """Milliseconds per frame outside the model through ``Pipeline``, and in the bare
     ``Tracker.step`` call (medians over the frames), and the tracks confirmed at the end."""
-    rng = np.random.default_rng(n)
-    scenes = [crowd(n, k / 25, rng) for k in range(FRAMES)]
+    frames = crowd_frames(n)
     model = Replay()
     pipeline = Pipeline(model, horizons=(0.4, 1.0))
     camera = Camera(K)
     color = np.zeros((480, 640, 3), dtype=np.uint8)
     through_pipeline = []
-    for k, (detections, depth) in enumerate(scenes):
-        model.next = detections
+    for k, (keypoints, depth) in enumerate(frames):
+        boxes = np.concatenate([keypoints[:, :, :2].min(axis=1), keypoints[:, :, :2].max(axis=1)], axis=1)
+        model.next = Detections(keypoints, boxes, np.full(n, 0.9))
         before = pipeline.seconds["tracking"]
         pipeline(Frame(k, k / 25, color, depth, camera))
         through_pipeline.append(pipeline.seconds["tracking"] - before)
-    tracker, bare = Tracker(), []
-    intrinsics = K.fx, K.fy, K.cx, K.cy
-    for i, (detections, depth) in enumerate(scenes):
-        start = time.perf_counter()
-        tracker.step(
-            i / 25,
-            detections.keypoints,
-            depth,
-            intrinsics,
-            K.coefficients,
-            camera.camera_to_world,
-            [0.4, 1.0],
-        )
-        bare.append(time.perf_counter() - start)
-    return 1e3 * float(np.median(through_pipeline)), 1e3 * float(np.median(bare)), len(tracker.tracks)
+    bare, tracks = frame_cost(frames)
+    return 1e3 * float(np.median(through_pipeline)), 1e3 * bare, tracks
 
 
 def end_to_end(shared: Path) -> list[tuple[str, float, dict[str, float]]]:

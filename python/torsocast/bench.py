@@ -1,6 +1,9 @@
-"""Latency of the forecasters through the Python API, measured on this machine.
+"""Latency measured on this machine: the forecasters through the Python API, and one frame of
+the RGB-D pipeline outside the keypoint model (``Tracker.step``) for a crowd of synthetic people.
 
-``torsocast bench`` prints it; ``benches/bench_python.py`` adds the SciPy reference beside it.
+``torsocast bench`` prints both; ``benches/bench_python.py`` adds the SciPy reference beside the
+first, ``benches/bench_pipeline.py`` the pipeline's own bookkeeping and the models beside the
+second.
 """
 
 from __future__ import annotations
@@ -13,6 +16,8 @@ import numpy as np
 
 from . import wrap_angle
 from ._core import Forecaster, ForecasterConfig, forecast_batch
+from .camera import Camera, Intrinsics
+from .tracker import Tracker
 
 #: Per-forecast cost reported by the thesis (Python, Intel i7-6700HQ), for comparison.
 THESIS_FORECAST_SECONDS = 0.715e-3
@@ -25,6 +30,84 @@ KINDS: dict[str, ForecasterConfig] = {
     "filter+spline N=1, general path": ForecasterConfig(fast_path=False),
     "filter+spline N=3": ForecasterConfig(degree=3),
 }
+
+
+#: The crowd's camera: 640x480 pixels, level, at the world's origin.
+K = Intrinsics(525.0, 525.0, 320.0, 240.0)
+#: Frames of a crowd (8 s at 25 Hz): every track is confirmed and forecasting for most of them.
+FRAMES = 200
+PER_ROW = 10
+#: Pixels across and up the picture per person on the stand: a torso 4 m away fits.
+CELL = (64, 96)
+#: People in the crowds ``torsocast bench`` times a frame of.
+CROWDS = (1, 10, 50)
+
+
+def places(n: int) -> np.ndarray:
+    """Where ``n`` people stand, ``(n, 3)`` in the world frame of :data:`K`'s camera. Up to ten:
+    on a 2-4 m arc across the picture, some partly behind others or out of view. More: on a
+    stand's tiers, rows of ten across the picture, each row half a metre further back and high
+    enough to be seen above the one in front, so that everyone is tracked (fifty on the arc
+    would stand inside one another, and a person the tracker cannot tell apart costs less)."""
+    if n <= PER_ROW:
+        return np.array([[2.0 + 2.0 * (i % 5) / 4, -1.2 + 2.4 * i / max(n - 1, 1), 0.0] for i in range(n)])
+    rows = -(-n // PER_ROW)
+    out = np.zeros((n, 3))
+    for i in range(n):
+        row, column = divmod(i, PER_ROW)
+        across = min(n - PER_ROW * row, PER_ROW)
+        u = K.cx + CELL[0] * (column - (across - 1) / 2)
+        v = K.cy + CELL[1] * ((rows - 1) / 2 - row)  # the front row lowest in the picture
+        x = 4.0 + 0.5 * row
+        out[i] = x, -(u - K.cx) * x / K.fx, -(v - K.cy) * x / K.fy
+    return out
+
+
+def crowd(n: int, t: float, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """``n`` people standing at :func:`places` at time ``t``, slowly turning: their 17 keypoints
+    ``(n, 17, 3)`` as a model would give them (a pixel's noise, score 0.9), and the depth image
+    they would give (their torsos as boxes before a wall 8 m away)."""
+    depth = np.full((480, 640), 8.0, dtype=np.float32)
+    keypoints = np.zeros((n, 17, 3))
+    for i, centre in enumerate(places(n)):
+        yaw = np.pi + 0.5 * np.sin(0.5 * t + i)
+        left = np.array([-np.sin(yaw), np.cos(yaw), 0.0])
+        joints = centre + np.outer(np.linspace(-0.2, 0.2, 17), left)
+        joints[:, 2] += np.linspace(0.3, -0.3, 17)
+        optical = np.column_stack([-joints[:, 1], -joints[:, 2], joints[:, 0]])
+        uv = K.project(optical)
+        keypoints[i, :, :2] = uv + rng.normal(0, 0.5, size=(17, 2))
+        keypoints[i, :, 2] = 0.9
+        u0, v0 = np.clip(uv.min(axis=0) - 4, 0, [639, 479]).astype(int)
+        u1, v1 = np.clip(uv.max(axis=0) + 4, 0, [639, 479]).astype(int)
+        depth[v0 : v1 + 1, u0 : u1 + 1] = np.minimum(depth[v0 : v1 + 1, u0 : u1 + 1], centre[0])
+    return keypoints, depth
+
+
+def crowd_frames(n: int) -> list[tuple[np.ndarray, np.ndarray]]:
+    """:data:`FRAMES` frames of :func:`crowd`, each with a depth image of its own (so that it is
+    read from memory, as a sensor's frame after the model has run)."""
+    rng = np.random.default_rng(n)
+    return [crowd(n, k / 25, rng) for k in range(FRAMES)]
+
+
+def frame_cost(frames: list[tuple[np.ndarray, np.ndarray]]) -> tuple[float, int]:
+    """Median seconds of one ``Tracker.step`` call over ``frames`` (25 Hz), with forecasts and
+    intervals 0.4 and 1 s ahead, and the tracks confirmed at the end."""
+    tracker, seconds = Tracker(), []
+    intrinsics, to_world = (K.fx, K.fy, K.cx, K.cy), Camera(K).camera_to_world
+    for k, (keypoints, depth) in enumerate(frames):
+        start = time.perf_counter()
+        tracker.step(k / 25, keypoints, depth, intrinsics, K.coefficients, to_world, [0.4, 1.0])
+        seconds.append(time.perf_counter() - start)
+    return float(np.median(seconds)), len(tracker.tracks)
+
+
+def frame_report(rows: list[tuple[int, float, int]]) -> str:
+    """``(people, seconds per frame, tracks)`` as a Markdown table."""
+    lines = ["| people | Tracker.step per frame (ms) | tracks |", "|---:|---:|---:|"]
+    lines += [f"| {n} | {seconds * 1e3:.3f} | {tracks} |" for n, seconds, tracks in rows]
+    return "\n".join(lines)
 
 
 def walking_windows(count: int, length: int = 50, rate_hz: float = 25.0, seed: int = 0) -> np.ndarray:

@@ -26,7 +26,7 @@ MAX_SCENES = 10_000
 
 
 def _bench(args: argparse.Namespace) -> int:
-    from .bench import measure, report
+    from .bench import CROWDS, crowd_frames, frame_cost, frame_report, measure, report
 
     if not 1 <= args.windows <= MAX_WINDOWS:
         expected = f"expected a positive number of windows up to {MAX_WINDOWS}"
@@ -34,6 +34,12 @@ def _bench(args: argparse.Namespace) -> int:
         return 2
     print(f"torsocast {__version__}: forecast latency on this machine ({args.windows} windows for the batch)")
     print(report(measure(args.windows)))
+    print(
+        "\nOne frame outside the keypoint model (depth lookup, tracking, every person's chain, forecasts "
+        "and intervals 0.4 and 1 s ahead), synthetic people on a 640x480 depth image fresh each frame, "
+        "median of 200 frames:"
+    )
+    print(frame_report([(n, *frame_cost(crowd_frames(n))) for n in CROWDS]))
     return 0
 
 
@@ -479,7 +485,10 @@ def main(argv: list[str] | None = None) -> int:
         "--world-frame", help="fixed frame to place the camera in (default: odom, else the tf root)"
     )
     rn.set_defaults(run=_run)
-    bench = sub.add_parser("bench", help="measure forecast latency of every forecaster on this machine")
+    bench = sub.add_parser(
+        "bench",
+        help="measure the latency of every forecaster and of a frame outside the keypoint model here",
+    )
     bench.add_argument("--windows", type=int, default=2000, help="windows in the batch timing")
     bench.set_defaults(run=_bench)
     fc = sub.add_parser("forecast", help="forecast a torso pose track read as CSV (t,x,y,z,az,el[,w])")
