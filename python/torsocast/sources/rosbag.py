@@ -145,13 +145,23 @@ def _compressed_depth_values(packing: str, data: bytes) -> npt.NDArray[np.uint16
     if packing != "rvl":
         with PILImage.open(BytesIO(data)) as image:
             return np.asarray(image, dtype=np.uint16)
-    if len(data) < 8:
+    size = _rvl_size(data)
+    if size is None:
         raise ValueError(f"compressedDepth in RVL of {len(data)} bytes holds no image size")
-    width, height = (int(v) for v in np.frombuffer(data[:8], "<u4"))
+    height, width = size
     # The encoder's best ratio is four pixels a byte (its decoder checks the same bound).
     if width * height == 0 or width * height > 5 * len(data):
         raise ValueError(f"compressedDepth in RVL says {width}x{height} pixels in {len(data)} bytes")
     return rvl_decode(data[8:], width * height).reshape(height, width)
+
+
+def _rvl_size(data: bytes) -> tuple[int, int] | None:
+    """The (height, width) that compressedDepth's RVL data (after its header) begins with: the
+    width and the height as two little-endian uint32; None where the data is too short."""
+    if len(data) < 8:
+        return None
+    width, height = (int(v) for v in np.frombuffer(data[:8], "<u4"))
+    return height, width
 
 
 def rvl_decode(stream: bytes, pixels: int) -> npt.NDArray[np.uint16]:
@@ -449,11 +459,7 @@ def _size(message: Any) -> tuple[int, int] | None:
         return int(message.height), int(message.width)
     packed = _packed_depth(message.format)
     if packed is not None and packed[1] == "rvl":
-        size = bytes(message.data)[COMPRESSED_DEPTH_HEADER : COMPRESSED_DEPTH_HEADER + 8]
-        if len(size) < 8:
-            return None
-        width, height = (int(v) for v in np.frombuffer(size, "<u4"))
-        return height, width
+        return _rvl_size(bytes(message.data)[COMPRESSED_DEPTH_HEADER:])
     skip = 0 if packed is None else COMPRESSED_DEPTH_HEADER
     try:
         with PILImage.open(BytesIO(bytes(message.data)[skip:])) as image:
