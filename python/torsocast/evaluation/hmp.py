@@ -382,20 +382,18 @@ def train(
     normaliser = Normaliser.fit(np.concatenate([f for _, f in usable]))
     encoded = [_channels(normaliser, tuple(actions), f, a) for a, f in usable]
     rng = np.random.default_rng(settings.seed)
-    w = Weights.initial(encoded[0].shape[1], settings.units, rng)
     losses = np.empty(settings.iterations)
     rate = settings.learning_rate
-    start = 0
-    if resume is not None:
+    if resume is None:
+        w, start = Weights.initial(encoded[0].shape[1], settings.units, rng), 0
+    else:
         _check_resumable(resume, settings, normaliser, tuple(actions), tuple(subjects))
         assert resume.rng is not None
-        w = Weights(*(a.copy() for a in resume.weights.arrays()))
+        w, start = Weights(*(a.copy() for a in resume.weights.arrays())), resume.iterations
         rng.bit_generator.state = resume.rng
-        start = resume.iterations
         losses[:start] = resume.losses
-        for i in range(start):  # the decays so far, as the run made them
-            if (i + 1) % settings.decay_every == 0:
-                rate *= settings.decay
+        for _ in range(start // settings.decay_every):  # the decays so far, one by one as made
+            rate *= settings.decay
 
     def so_far(done: int) -> Model:
         state = dict(rng.bit_generator.state)
