@@ -456,9 +456,12 @@ impl<T: Lanes> ForwardBackward<T> {
             }
             end
         };
-        for i in 0..edge {
-            ext[i] = odd(x(0), x(edge - i));
-            ext[edge + n + i] = odd(x(n - 1), x(n - 2 - i));
+        if edge > 0 {
+            let (first, last) = (x(0), x(n - 1));
+            for i in 0..edge {
+                ext[i] = odd(first, x(edge - i));
+                ext[edge + n + i] = odd(last, x(n - 2 - i));
+            }
         }
         for (i, e) in ext[edge..edge + n].iter_mut().enumerate() {
             *e = x(i);
