@@ -26,3 +26,10 @@ def test_the_report_is_a_table_of_the_crowds():
     text = frame_report([(1, 1.2e-5, 1), (50, 4.9e-4, 50)])
     assert text.splitlines()[0] == "| people | Tracker.step per frame (ms) | tracks |"
     assert "| 50 | 0.490 | 50 |" in text
+
+
+def test_a_crowd_of_nobody_and_no_frames_are_refused():
+    with pytest.raises(ValueError, match="at least one person"):
+        crowd(0, 0.0, np.random.default_rng(0))
+    with pytest.raises(ValueError, match="no frames"):
+        frame_cost([])

@@ -49,6 +49,8 @@ def places(n: int) -> np.ndarray:
     stand's tiers, rows of ten across the picture, each row half a metre further back and high
     enough to be seen above the one in front, so that everyone is tracked (fifty on the arc
     would stand inside one another, and a person the tracker cannot tell apart costs less)."""
+    if n < 1:
+        raise ValueError(f"a crowd needs at least one person, got {n}")
     if n <= PER_ROW:
         return np.array([[2.0 + 2.0 * (i % 5) / 4, -1.2 + 2.4 * i / max(n - 1, 1), 0.0] for i in range(n)])
     rows = -(-n // PER_ROW)
@@ -94,6 +96,8 @@ def crowd_frames(n: int) -> list[tuple[np.ndarray, np.ndarray]]:
 def frame_cost(frames: list[tuple[np.ndarray, np.ndarray]]) -> tuple[float, int]:
     """Median seconds of one ``Tracker.step`` call over ``frames`` (25 Hz), with forecasts and
     intervals 0.4 and 1 s ahead, and the tracks confirmed at the end."""
+    if not frames:
+        raise ValueError("no frames to time")
     tracker, seconds = Tracker(), []
     intrinsics, to_world = (K.fx, K.fy, K.cx, K.cy), Camera(K).camera_to_world
     for k, (keypoints, depth) in enumerate(frames):
